@@ -1,0 +1,17 @@
+# cmake -DSRC=dir -DBIN=dir -DARGS=list [-DINSTALL_FROM=build -DPREFIX=dir] -P build_consumer.cmake
+# Configures, builds and runs a small project that uses qrm (optionally installing qrm first).
+function(run)
+  execute_process(COMMAND ${ARGV} RESULT_VARIABLE rv OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  if(NOT rv EQUAL 0)
+    message(FATAL_ERROR "failed: ${ARGV}\n${out}")
+  endif()
+endfunction()
+file(REMOVE_RECURSE ${BIN})
+if(INSTALL_FROM)
+  file(REMOVE_RECURSE ${PREFIX})
+  run(${CMAKE_COMMAND} --install ${INSTALL_FROM} --prefix ${PREFIX})
+endif()
+run(${CMAKE_COMMAND} -S ${SRC} -B ${BIN} ${ARGS})
+run(${CMAKE_COMMAND} --build ${BIN})
+run(${BIN}/consumer)
+message(STATUS "consumer built and ran")

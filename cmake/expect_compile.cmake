@@ -1,0 +1,21 @@
+# cmake -DCXX=... -DSOURCE=... -DINCLUDE=... -DEXPECT=fail|pass [-DDEFINE=...] [-DMESSAGE=regex] -P expect_compile.cmake
+# A must-fail check passes only if the compiler rejects SOURCE *and* prints MESSAGE (the rule's
+# name), so a failure for another reason (a typo, a missing header) does not count.
+set(args -std=c++20 -fsyntax-only -I${INCLUDE} ${SOURCE})
+if(DEFINE)
+  list(APPEND args -D${DEFINE})
+endif()
+execute_process(COMMAND ${CXX} ${args} RESULT_VARIABLE rv OUTPUT_VARIABLE out ERROR_VARIABLE out)
+if(EXPECT STREQUAL "pass")
+  if(NOT rv EQUAL 0)
+    message(FATAL_ERROR "expected ${SOURCE} to compile, but:\n${out}")
+  endif()
+else()
+  if(rv EQUAL 0)
+    message(FATAL_ERROR "expected ${SOURCE} (-D${DEFINE}) to be rejected, but it compiled")
+  endif()
+  if(NOT out MATCHES "${MESSAGE}")
+    message(FATAL_ERROR "${SOURCE} was rejected, but not with '${MESSAGE}':\n${out}")
+  endif()
+  message(STATUS "rejected with '${MESSAGE}' as expected")
+endif()

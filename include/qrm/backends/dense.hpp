@@ -1,0 +1,248 @@
+// qrm/backends/dense.hpp: the dense state-vector backend, templated on its amplitude type.
+//
+// state_vector<S> holds all 2^n amplitudes. S is std::complex<double> (default),
+// std::complex<float>, or real double / float for circuits whose gates are all real (the
+// paper's circuits are: X, Ry and the +-1/2 coins), which halves memory and arithmetic.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#if __has_include(<unistd.h>)
+#include <unistd.h>
+#endif
+
+#include "../detail/aligned_allocator.hpp"
+#include "../detail/bits.hpp"
+#include "../detail/dense_kernels.hpp"
+#include "../ops.hpp"
+
+namespace qrm {
+
+struct dense_options {
+  unsigned threads = 0;                               // 0: every hardware thread; 1: never spawn work
+  std::uint64_t min_parallel = std::uint64_t{1} << 16;  // amplitudes a kernel touches before it uses threads
+  std::uint64_t max_bytes = 0;                        // refuse larger states; 0: the machine's physical memory
+  // Multiplexed gates: visit each entry's subspace, or sweep the state once with a table lookup;
+  // `automatic` picks by cache-line waste (detail::mux_prefers_sweep).
+  mux_strategy mux = mux_strategy::automatic;
+};
+
+namespace detail {
+template <class S>
+constexpr const char* scalar_name() {
+  if constexpr (std::is_same_v<S, double>) return "double";
+  else if constexpr (std::is_same_v<S, float>) return "float";
+  else if constexpr (std::is_same_v<S, std::complex<double>>) return "complex<double>";
+  else return "complex<float>";
+}
+
+inline std::string format_bytes(long double bytes) {
+  const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+  int u = 0;
+  while (bytes >= 1024 && u < 6) {
+    bytes /= 1024;
+    ++u;
+  }
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.4Lg %s", bytes, units[u]);
+  return buf;
+}
+
+inline std::uint64_t physical_memory_bytes() {
+#if defined(_SC_PHYS_PAGES) && defined(_SC_PAGE_SIZE)
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  if (pages > 0 && page > 0) return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page);
+#endif
+  return 0;
+}
+}  // namespace detail
+
+// state_vector<S>: 2^n amplitudes, starting in |0...0>.
+template <class Scalar = std::complex<double>>
+class state_vector {
+  static constexpr bool scalar_must_be_float_double_or_complex =
+      std::is_same_v<Scalar, double> || std::is_same_v<Scalar, float> ||
+      std::is_same_v<Scalar, std::complex<double>> || std::is_same_v<Scalar, std::complex<float>>;
+  static_assert(scalar_must_be_float_double_or_complex,
+                "scalar_must_be_float_double_or_complex: state_vector<S> needs S = float, double, "
+                "std::complex<float> or std::complex<double>");
+
+ public:
+  using scalar_type = Scalar;
+  using real_type = typename detail::scalar_traits<Scalar>::real;
+  static constexpr bool is_complex = detail::scalar_traits<Scalar>::is_complex;
+
+  // Bytes a state of n qubits needs.
+  static long double bytes_for(std::size_t n) { return std::ldexp(static_cast<long double>(sizeof(Scalar)), static_cast<int>(n)); }
+
+  explicit state_vector(std::size_t num_qubits, dense_options opt = {}) : n_(static_cast<unsigned>(num_qubits)) {
+    const long double need = bytes_for(num_qubits);
+    const std::uint64_t limit = opt.max_bytes ? opt.max_bytes : detail::physical_memory_bytes();
+    if (num_qubits > 62 || (limit != 0 && need > static_cast<long double>(limit)))
+      throw std::length_error("state_vector: " + std::to_string(num_qubits) + " qubits of " +
+                              detail::scalar_name<Scalar>() + " need " + detail::format_bytes(need) + ", more than the " +
+                              (limit ? detail::format_bytes(limit) : std::string("addressable")) +
+                              " allowed (dense_options::max_bytes, default: physical memory); use the compact backend "
+                              "or fewer qubits");
+    ex_.threads = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
+    ex_.min_parallel = opt.min_parallel;
+    ex_.mux = opt.mux;
+    try {
+      amps_.assign(static_cast<std::size_t>(std::uint64_t{1} << n_), Scalar{});
+    } catch (const std::bad_alloc&) {
+      throw std::length_error("state_vector: could not allocate " + detail::format_bytes(need) + " for " +
+                              std::to_string(num_qubits) + " qubits");
+    }
+    amps_[0] = Scalar{1};
+  }
+
+  std::size_t num_qubits() const { return n_; }
+  std::uint64_t size() const { return amps_.size(); }
+  unsigned threads() const { return ex_.threads; }
+  void set_threads(unsigned t) { ex_.threads = std::max(1u, t); }
+  void set_min_parallel(std::uint64_t amplitudes) { ex_.min_parallel = amplitudes; }
+
+  std::span<Scalar> amplitudes() { return amps_; }
+  std::span<const Scalar> amplitudes() const { return amps_; }
+  Scalar amplitude(std::uint64_t index) const {
+    if (index >= amps_.size())
+      throw std::out_of_range("state_vector::amplitude: index " + std::to_string(index) + " >= 2^" + std::to_string(n_));
+    return amps_[index];
+  }
+  // |index>
+  void set_basis_state(std::uint64_t index) {
+    if (index >= amps_.size())
+      throw std::out_of_range("state_vector::set_basis_state: index " + std::to_string(index) + " >= 2^" +
+                              std::to_string(n_));
+    std::fill(amps_.begin(), amps_.end(), Scalar{});
+    amps_[index] = Scalar{1};
+  }
+  void set_amplitudes(std::span<const Scalar> a) {
+    if (a.size() != amps_.size())
+      throw std::invalid_argument("state_vector::set_amplitudes: got " + std::to_string(a.size()) + " amplitudes, need " +
+                                  std::to_string(amps_.size()));
+    std::copy(a.begin(), a.end(), amps_.begin());
+  }
+
+  // ---- gate_sink --------------------------------------------------------------------------
+
+  void apply_gate1(const gate1& g, qubit_index target, std::span<const control> controls) {
+    const auto cm = detail::make_control_mask(controls, n_, "apply_gate1");
+    detail::make_operand_mask(std::span<const qubit_index>(&target, 1), n_, cm.mask, "apply_gate1");
+    check_real(g.is_real(), "apply_gate1");
+    detail::kernel_gate1(amps_.data(), n_, g, target, cm.mask, cm.value, ex_);
+  }
+  void apply_unitary(const dense_matrix& m, std::span<const qubit_index> targets, std::span<const control> controls) {
+    const auto cm = detail::make_control_mask(controls, n_, "apply_unitary");
+    const std::uint64_t tm = detail::make_operand_mask(targets, n_, cm.mask, "apply_unitary");
+    check_dim(m, targets.size(), "apply_unitary");
+    check_real(m.is_real(), "apply_unitary");
+    detail::kernel_unitary(amps_.data(), n_, m, targets, tm, cm.mask, cm.value, ex_);
+  }
+  void apply_add(std::int64_t constant, std::span<const qubit_index> bits, std::span<const control> controls) {
+    const auto cm = detail::make_control_mask(controls, n_, "apply_add");
+    const std::uint64_t rm = detail::make_operand_mask(bits, n_, cm.mask, "apply_add");
+    if (bits.empty()) return;
+    detail::kernel_add(amps_.data(), n_, constant, bits, rm, cm.mask, cm.value, ex_);
+  }
+  void apply_mux1(std::span<const mux1_entry> entries, qubit_index target, std::span<const qubit_index> select,
+                  std::span<const control> controls) {
+    const auto cm = detail::make_control_mask(controls, n_, "apply_mux1");
+    const std::uint64_t sm = detail::make_operand_mask(select, n_, cm.mask, "apply_mux1");
+    detail::make_operand_mask(std::span<const qubit_index>(&target, 1), n_, cm.mask | sm, "apply_mux1");
+    check_entries(entries, select.size(), "apply_mux1");
+    for (const auto& e : entries) check_real(e.gate.is_real(), "apply_mux1");
+    detail::kernel_mux1(amps_.data(), n_, entries, target, select, sm, cm.mask, cm.value, ex_);
+  }
+  void apply_mux_unitary(std::span<const dense_matrix> matrices, std::span<const mux_unitary_entry> entries,
+                         std::span<const qubit_index> targets, std::span<const qubit_index> select,
+                         std::span<const control> controls) {
+    const auto cm = detail::make_control_mask(controls, n_, "apply_mux_unitary");
+    const std::uint64_t sm = detail::make_operand_mask(select, n_, cm.mask, "apply_mux_unitary");
+    const std::uint64_t tm = detail::make_operand_mask(targets, n_, cm.mask | sm, "apply_mux_unitary");
+    check_entries(entries, select.size(), "apply_mux_unitary");
+    for (const auto& m : matrices) {
+      check_dim(m, targets.size(), "apply_mux_unitary");
+      check_real(m.is_real(), "apply_mux_unitary");
+    }
+    for (const auto& e : entries)
+      if (e.matrix >= matrices.size())
+        throw std::invalid_argument("apply_mux_unitary: entry names matrix " + std::to_string(e.matrix) + " of " +
+                                    std::to_string(matrices.size()));
+    detail::kernel_mux_unitary(amps_.data(), n_, matrices, entries, targets, tm, select, sm, cm.mask, cm.value, ex_);
+  }
+
+  // ---- reading the state ----------------------------------------------------------------------
+
+  // Sum of |a|^2 (1 for a normalised state), summed in a fixed order.
+  double norm_squared() const {
+    const detail::subspace all(n_, 0, 0);
+    const Scalar* a = amps_.data();
+    return detail::reduce_runs(all, ex_, [&](std::uint64_t f, std::uint64_t len) { return detail::norm_of_run(a, f, len); });
+  }
+  // Probability that every control holds (e.g. out = 1).
+  double probability(std::span<const control> condition) const {
+    const auto cm = detail::make_control_mask(condition, n_, "probability");
+    const detail::subspace s(n_, cm.mask, cm.value);
+    const Scalar* a = amps_.data();
+    return detail::reduce_runs(s, ex_, [&](std::uint64_t f, std::uint64_t len) { return detail::norm_of_run(a, f, len); });
+  }
+  // Probabilities of every value of the register `bits` (2^k numbers).
+  std::vector<double> distribution(std::span<const qubit_index> bits) const {
+    detail::make_operand_mask(bits, n_, 0, "distribution");
+    if (bits.size() > 26) throw std::invalid_argument("distribution: at most 26 qubits per register");
+    std::vector<double> p(std::size_t{1} << bits.size(), 0.0);
+    for (std::uint64_t v = 0; v < p.size(); ++v) {
+      std::vector<control> cond;
+      for (std::size_t i = 0; i < bits.size(); ++i) cond.push_back({bits[i], ((v >> i) & 1u) != 0});
+      p[v] = probability(cond);
+    }
+    return p;
+  }
+
+ private:
+  void check_real(bool real, const char* what) const {
+    if constexpr (!is_complex) {
+      if (!real)
+        throw std::invalid_argument(std::string(what) + ": complex_gate_needs_complex_backend: this state_vector<" +
+                                    detail::scalar_name<Scalar>() + "> stores real amplitudes");
+    }
+  }
+  static void check_dim(const dense_matrix& m, std::size_t k, const char* what) {
+    if (k > 16 || m.dim != (std::size_t{1} << k) || m.data.size() != m.dim * m.dim)
+      throw std::invalid_argument(std::string(what) + ": a " + std::to_string(m.dim) + "x" + std::to_string(m.dim) +
+                                  " matrix cannot act on " + std::to_string(k) + " qubits");
+  }
+  template <class E>
+  static void check_entries(std::span<const E> entries, std::size_t m, const char* what) {
+    if (m > 30) throw std::invalid_argument(std::string(what) + ": at most 30 select qubits");
+    std::vector<std::uint64_t> values;
+    values.reserve(entries.size());
+    for (const auto& e : entries) {
+      if (e.select >= (std::uint64_t{1} << m))
+        throw std::invalid_argument(std::string(what) + ": select value " + std::to_string(e.select) + " does not fit " +
+                                    std::to_string(m) + " select qubits");
+      values.push_back(e.select);
+    }
+    std::sort(values.begin(), values.end());
+    const auto dup = std::adjacent_find(values.begin(), values.end());
+    if (dup != values.end())
+      throw std::invalid_argument(std::string(what) + ": select value " + std::to_string(*dup) + " has two entries");
+  }
+
+  unsigned n_;
+  std::vector<Scalar, detail::huge_page_allocator<Scalar>> amps_;
+  detail::exec_policy ex_;
+};
+
+}  // namespace qrm
