@@ -1,0 +1,108 @@
+// examples/qrm/args.hpp: strict command-line parsing for the qrm tool. Unknown flags, missing
+// values and malformed numbers are errors that name the flag and the value.
+#pragma once
+
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace qrm_cli {
+
+struct usage_error : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class args {
+ public:
+  // argv after the subcommand name.
+  args(std::string command, std::vector<std::string> argv) : command_(std::move(command)) {
+    for (std::size_t i = 0; i < argv.size(); ++i) {
+      std::string a = argv[i];
+      if (a.rfind("--", 0) != 0 || a.size() < 3)
+        throw usage_error(command_ + ": unexpected argument '" + a + "' (flags start with --)");
+      const auto eq = a.find('=');
+      if (eq != std::string::npos) {
+        set(a.substr(2, eq - 2), a.substr(eq + 1));
+      } else if (i + 1 < argv.size() && argv[i + 1].rfind("--", 0) != 0) {
+        set(a.substr(2), argv[++i]);
+      } else {
+        set(a.substr(2), "");  // a switch
+      }
+    }
+  }
+
+  // Declares the flags this command knows; any other flag given is an error.
+  void allow(std::initializer_list<const char*> names) {
+    for (const char* n : names) allowed_.insert(n);
+    for (const auto& [k, v] : values_)
+      if (!allowed_.count(k)) throw usage_error(command_ + ": unknown flag --" + k);
+  }
+
+  bool has(const std::string& name) const { return values_.count(name) != 0; }
+  // A switch (--quiet); giving it a value is an error.
+  bool flag(const std::string& name) const {
+    auto it = values_.find(name);
+    if (it == values_.end()) return false;
+    if (!it->second.empty()) throw usage_error(command_ + ": --" + name + " takes no value (got '" + it->second + "')");
+    return true;
+  }
+  std::string str(const std::string& name, const std::string& fallback) const {
+    auto it = values_.find(name);
+    if (it == values_.end()) return fallback;
+    return need_value(name, it->second);
+  }
+  std::string required(const std::string& name) const {
+    auto it = values_.find(name);
+    if (it == values_.end()) throw usage_error(command_ + ": missing required flag --" + name);
+    return need_value(name, it->second);
+  }
+  double number(const std::string& name, double fallback) const {
+    if (!has(name)) return fallback;
+    return parse_double(name, str(name, ""));
+  }
+  double required_number(const std::string& name) const { return parse_double(name, required(name)); }
+  std::int64_t integer(const std::string& name, std::int64_t fallback, std::int64_t lo, std::int64_t hi) const {
+    if (!has(name)) return fallback;
+    const std::string v = str(name, "");
+    char* end = nullptr;
+    errno = 0;
+    const long long x = std::strtoll(v.c_str(), &end, 10);
+    if (errno != 0 || end == v.c_str() || *end != '\0')
+      throw usage_error(command_ + ": --" + name + " needs an integer, got '" + v + "'");
+    if (x < lo || x > hi)
+      throw usage_error(command_ + ": --" + name + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                        "], got " + v);
+    return x;
+  }
+  const std::string& command() const { return command_; }
+
+ private:
+  void set(const std::string& k, const std::string& v) {
+    if (values_.count(k)) throw usage_error(command_ + ": --" + k + " given twice");
+    values_[k] = v;
+  }
+  std::string need_value(const std::string& name, const std::string& v) const {
+    if (v.empty()) throw usage_error(command_ + ": --" + name + " needs a value");
+    return v;
+  }
+  double parse_double(const std::string& name, const std::string& v) const {
+    char* end = nullptr;
+    errno = 0;
+    const double x = std::strtod(v.c_str(), &end);
+    if (errno != 0 || end == v.c_str() || *end != '\0' || !std::isfinite(x))
+      throw usage_error(command_ + ": --" + name + " needs a finite number, got '" + v + "'");
+    return x;
+  }
+
+  std::string command_;
+  std::map<std::string, std::string> values_;
+  std::set<std::string> allowed_;
+};
+
+}  // namespace qrm_cli

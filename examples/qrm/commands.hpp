@@ -1,0 +1,17 @@
+// examples/qrm/commands.hpp: the qrm tool's subcommands, one source file each.
+#pragma once
+
+#include "args.hpp"
+
+namespace qrm_cli {
+
+struct command {
+  const char* name;
+  const char* summary;
+  int (*run)(args&);
+};
+
+// Each returns the process exit code; usage problems throw usage_error.
+int cmd_version(args&);
+
+}  // namespace qrm_cli
