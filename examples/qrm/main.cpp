@@ -18,6 +18,7 @@ int cmd_version(args& a) {
 
 static const command commands[] = {
     {"version", "print the version", cmd_version},
+    {"lightmap", "exact light maps of a 2D scene: faithful, history and classical", cmd_lightmap},
 };
 
 static void print_usage(std::FILE* out) {

@@ -1,0 +1,114 @@
+// Scenes: the paper's data as SPEC.md states it, the text format's round trip, and its errors.
+#include <doctest/doctest.h>
+
+#include <string>
+
+#include <qrm/paper_scenes.hpp>
+#include <qrm/scene_io.hpp>
+
+namespace {
+
+template <class F>
+std::string error_of(F f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+const char* header2d = "qrm-scene 1\ndims 2\nsize 4\ncolor w 1 1 1\n";
+
+}  // namespace
+
+TEST_CASE("paper_8x8 holds SPEC.md's data") {
+  const qrm::scene s = qrm::paper_8x8();
+  CHECK(s.size() == 8);
+  CHECK(s.dims() == 2);
+  // Spot checks typed in from SPEC.md section 3 (x = column, y = row).
+  CHECK(s.at(0, 0).kind == qrm::material::boundary);
+  CHECK(s.at(0, 0).normal_index == 3);
+  CHECK(s.at(7, 0).normal_index == 5);
+  CHECK(s.at(3, 4).kind == qrm::material::boundary);  // B0 in the middle
+  CHECK(s.at(3, 4).normal_index == 0);
+  CHECK(s.at(2, 3).kind == qrm::material::lambertian);
+  CHECK(s.at(2, 3).normal_index == 7);
+  CHECK(s.at(1, 1).kind == qrm::material::air);
+  CHECK(s.at(0, 7).normal_index == 1);
+  CHECK(s.at(3, 0).emission == qrm::rgb{1, 1, 1});
+  CHECK(s.at(4, 4).emission == qrm::rgb{1, 1, 1});
+  CHECK(s.at(3, 4).emission == qrm::rgb{0, 0, 0});
+  CHECK(s.at(7, 3).emission == qrm::rgb{1, 1, 1});
+  CHECK(s.at(1, 0).reflectance == qrm::rgb{0, 0.5, 0});     // G
+  CHECK(s.at(7, 1).reflectance == qrm::rgb{0.5, 0, 0});     // R
+  CHECK(s.at(2, 3).reflectance == qrm::rgb{0, 0, 0.5});     // Bl
+  CHECK(s.at(0, 0).reflectance == qrm::rgb{0.75, 0.75, 0.75});  // Gy
+  CHECK(s.at(1, 1).reflectance == qrm::rgb{1, 1, 1});       // A (air)
+  std::size_t emitters = 0, air = 0;
+  for (const auto& v : s.voxels()) {
+    emitters += v.emission.r > 0;
+    air += v.kind == qrm::material::air;
+  }
+  CHECK(emitters == 13);  // rows 0..7 of SPEC's emitted grid: 2 + 1 + 1 + 2 + 3 + 1 + 1 + 2
+  CHECK(air == 27);       // 64 minus 28 border cells minus the 3x3 block in the middle
+}
+
+TEST_CASE("paper_4x4 holds SPEC.md's data") {
+  const qrm::scene s = qrm::paper_4x4();
+  CHECK(s.at(3, 0).normal_index == 5);
+  CHECK(s.at(2, 0).emission == qrm::rgb{1, 1, 1});
+  CHECK(s.at(0, 2).emission == qrm::rgb{1, 1, 1});
+  CHECK(s.at(3, 1).reflectance == qrm::rgb{0.5, 0, 0});
+  CHECK(s.at(1, 3).reflectance == qrm::rgb{0, 0, 0.5});
+  CHECK(s.at(2, 3).reflectance == qrm::rgb{0, 0.5, 0});
+  CHECK(s.at(1, 1).kind == qrm::material::air);
+}
+
+TEST_CASE("format_scene and parse_scene round-trip exactly, 2D and 3D") {
+  const qrm::scene a = qrm::paper_8x8();
+  const qrm::scene b = qrm::parse_scene(qrm::format_scene(a), "roundtrip");
+  CHECK(a.voxels() == b.voxels());
+  qrm::scene c("cube", 3, 4);
+  c.at(1, 2, 3).kind = qrm::material::lambertian;
+  c.at(1, 2, 3).normal = qrm::normalized({0.3, -0.2, 0.9});
+  c.at(1, 2, 3).reflectance = {0.1, 0.2, 0.3};
+  c.at(0, 0, 0).emission = {7.5, 0, 1e-3};
+  const qrm::scene d = qrm::parse_scene(qrm::format_scene(c), "roundtrip3d");
+  CHECK(c.voxels() == d.voxels());
+  const qrm::scene e = qrm::parse_scene(
+      "qrm-scene 1\ndims 3\nsize 4\ncolor red 0.6 0.1 0.1\nfill 0 0 0 3 0 3 L 0 1 0 rho red\nvoxel 1 1 1 air le 2 2 2\n", "fill");
+  CHECK(e.at(3, 0, 2).kind == qrm::material::lambertian);
+  CHECK(e.at(3, 0, 2).reflectance == qrm::rgb{0.6, 0.1, 0.1});
+  CHECK(e.at(3, 1, 2).kind == qrm::material::air);
+  CHECK(e.at(1, 1, 1).emission == qrm::rgb{2, 2, 2});
+}
+
+TEST_CASE("malformed scene files are rejected with the line and the problem") {
+  auto err = [](const std::string& text) { return error_of([&] { qrm::parse_scene(text, "s.txt"); }); };
+  CHECK(err("") == "s.txt:1: empty scene file (expected 'qrm-scene 1')");
+  CHECK(err("qrm-scene 2\n").find("s.txt:1: unsupported format version '2'") == 0);
+  CHECK(err("qrm-scene 1\ndims 4\n") == "s.txt:2: dims must be 2 or 3, got 4");
+  CHECK(err("qrm-scene 1\ndims 2\nsize 6\n") == "s.txt:3: size must be a power of two in [2, 4096], got 6");
+  CHECK(err("qrm-scene 1\nsize 4\n") == "s.txt:2: 'dims' must come before 'size'");
+  CHECK(err(std::string(header2d) + "kinds\n. . . .\n. . . .\n") ==
+        "s.txt:7: 'kinds' grid ends after 2 of 4 rows (started on line 5)");
+  CHECK(err(std::string(header2d) + "kinds\n. . .\n") == "s.txt:6: 'kinds' row 0 has 3 tokens, expected 4");
+  CHECK(err(std::string(header2d) + "kinds\n. X3 . .\n") ==
+        "s.txt:6: unknown cell 'X3' at x = 1 (expected ., L<n>, B<n> or S<n>)");
+  CHECK(err(std::string(header2d) + "kinds\n. L9 . .\n") == "s.txt:6: normal index must be 0..7, got 9");
+  CHECK(err(std::string(header2d) + "voxel 1 1 L 2 rho 1.5 0 0\n") == "s.txt:5: reflectance 1.500000 outside [0, 1] in channel R");
+  CHECK(err(std::string(header2d) + "voxel 1 1 L 2 rho 0.5 0.5 0.5 le 0 -1 0\n") ==
+        "s.txt:5: emission -1.000000 is negative in channel G");
+  CHECK(err(std::string(header2d) + "voxel 1 1 L 2 rho nan 0 0\n") == "s.txt:5: rho: nan is not finite");
+  CHECK(err(std::string(header2d) + "voxel 1 1 L 2 rho 1 1 inf\n") == "s.txt:5: rho: inf is not finite");
+  CHECK(err(std::string(header2d) + "voxel 9 1 air\n") == "s.txt:5: coordinate 9 outside the grid [0, 3]");
+  CHECK(err(std::string(header2d) + "voxel 1 1 L 2\n") == "s.txt:5: a lambertian voxel needs 'rho C'");
+  CHECK(err(std::string(header2d) + "emission\nw w w q\n") ==
+        "s.txt:6: unknown colour 'q' (declare it with 'color q R G B')");
+  CHECK(err(std::string(header2d) + "teleport 1 2\n") == "s.txt:5: unknown statement 'teleport'");
+  CHECK(err("qrm-scene 1\ndims 2\n") == "s.txt:2: the file ends before 'size' (a scene needs 'dims' and 'size')");
+  CHECK(err("qrm-scene 1\ndims 3\nsize 4\nvoxel 1 1 1 L 0 0 0 rho 1 1 1\n") == "s.txt:4: normal must be a nonzero vector");
+  CHECK(error_of([] { qrm::load_scene("/nonexistent/scene.txt"); }) == "/nonexistent/scene.txt: cannot open the scene file");
+  CHECK(error_of([] { qrm::scene("s", 2, 12); }) == "scene: size must be a power of two >= 2 (N = 2^P), got 12");
+}
