@@ -25,7 +25,7 @@ class args {
     for (std::size_t i = 0; i < argv.size(); ++i) {
       std::string a = argv[i];
       if (a.rfind("--", 0) != 0 || a.size() < 3)
-        throw usage_error(command_ + ": unexpected argument '" + a + "' (flags start with --)");
+        throw usage_error("unexpected argument '" + a + "' (flags start with --)");
       const auto eq = a.find('=');
       if (eq != std::string::npos) {
         set(a.substr(2, eq - 2), a.substr(eq + 1));
@@ -41,7 +41,7 @@ class args {
   void allow(std::initializer_list<const char*> names) {
     for (const char* n : names) allowed_.insert(n);
     for (const auto& [k, v] : values_)
-      if (!allowed_.count(k)) throw usage_error(command_ + ": unknown flag --" + k);
+      if (!allowed_.count(k)) throw usage_error("unknown flag --" + k);
   }
 
   bool has(const std::string& name) const { return values_.count(name) != 0; }
@@ -49,7 +49,7 @@ class args {
   bool flag(const std::string& name) const {
     auto it = values_.find(name);
     if (it == values_.end()) return false;
-    if (!it->second.empty()) throw usage_error(command_ + ": --" + name + " takes no value (got '" + it->second + "')");
+    if (!it->second.empty()) throw usage_error("--" + name + " takes no value (got '" + it->second + "')");
     return true;
   }
   std::string str(const std::string& name, const std::string& fallback) const {
@@ -59,7 +59,7 @@ class args {
   }
   std::string required(const std::string& name) const {
     auto it = values_.find(name);
-    if (it == values_.end()) throw usage_error(command_ + ": missing required flag --" + name);
+    if (it == values_.end()) throw usage_error("missing required flag --" + name);
     return need_value(name, it->second);
   }
   double number(const std::string& name, double fallback) const {
@@ -74,9 +74,9 @@ class args {
     errno = 0;
     const long long x = std::strtoll(v.c_str(), &end, 10);
     if (errno != 0 || end == v.c_str() || *end != '\0')
-      throw usage_error(command_ + ": --" + name + " needs an integer, got '" + v + "'");
+      throw usage_error("--" + name + " needs an integer, got '" + v + "'");
     if (x < lo || x > hi)
-      throw usage_error(command_ + ": --" + name + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+      throw usage_error("--" + name + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
                         "], got " + v);
     return x;
   }
@@ -84,11 +84,11 @@ class args {
 
  private:
   void set(const std::string& k, const std::string& v) {
-    if (values_.count(k)) throw usage_error(command_ + ": --" + k + " given twice");
+    if (values_.count(k)) throw usage_error("--" + k + " given twice");
     values_[k] = v;
   }
   std::string need_value(const std::string& name, const std::string& v) const {
-    if (v.empty()) throw usage_error(command_ + ": --" + name + " needs a value");
+    if (v.empty()) throw usage_error("--" + name + " needs a value");
     return v;
   }
   double parse_double(const std::string& name, const std::string& v) const {
@@ -96,7 +96,7 @@ class args {
     errno = 0;
     const double x = std::strtod(v.c_str(), &end);
     if (errno != 0 || end == v.c_str() || *end != '\0' || !std::isfinite(x))
-      throw usage_error(command_ + ": --" + name + " needs a finite number, got '" + v + "'");
+      throw usage_error("--" + name + " needs a finite number, got '" + v + "'");
     return x;
   }
 

@@ -12,9 +12,9 @@ namespace qrm_cli {
 int cmd_lightmap(args& a) {
   a.allow({"scene", "steps", "exact", "backend", "format", "prune", "threads"});
   const qrm::scene sc = scene_from_arg(a.required("scene"));
-  if (sc.dims() != 2) throw usage_error("lightmap: --scene must be a 2D scene (3D scenes: qrm render)");
+  if (sc.dims() != 2) throw usage_error("--scene must be a 2D scene (3D scenes: qrm render)");
   if (!a.flag("exact"))
-    throw usage_error("lightmap: give --exact (exact probabilities from the simulated state); estimated maps are made by "
+    throw usage_error("give --exact (exact probabilities from the simulated state); estimated maps are made by "
                       "`qrm render --scene paper_8x8`");
   qrm::lightmap_options o;
   o.steps = static_cast<unsigned>(a.integer("steps", 3, 1, 12));
@@ -22,9 +22,9 @@ int cmd_lightmap(args& a) {
   o.threads = static_cast<unsigned>(a.integer("threads", 0, 0, 256));
   const std::string backend = a.str("backend", "dense");
   const std::string format = a.str("format", "csv");
-  if (format != "csv" && format != "json") throw usage_error("lightmap: --format must be csv or json, got '" + format + "'");
+  if (format != "csv" && format != "json") throw usage_error("--format must be csv or json, got '" + format + "'");
   qrm::probability_runner run = qrm::dense_probability;
-  if (backend != "dense") throw usage_error("lightmap: --backend must be dense, got '" + backend + "'");
+  if (backend != "dense") throw usage_error("--backend must be dense, got '" + backend + "'");
   const qrm::walk_model model(sc, qrm::king_2d());
   const auto cells = qrm::exact_lightmap(model, o, run);
   if (format == "csv") {

@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
       args a(name, std::vector<std::string>(argv + 2, argv + argc));
       return c.run(a);
     } catch (const usage_error& e) {
-      std::fprintf(stderr, "qrm %s\n", e.what());
+      std::fprintf(stderr, "qrm %s: %s\n", name.c_str(), e.what());
       return 2;
     } catch (const std::exception& e) {
       std::fprintf(stderr, "qrm %s: error: %s\n", name.c_str(), e.what());

@@ -4,15 +4,14 @@
 #pragma once
 
 #include <algorithm>
-#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "backends/dense.hpp"
 #include "classical.hpp"
+#include "detail/parallel.hpp"
 #include "walk.hpp"
 
 namespace qrm {
@@ -63,37 +62,29 @@ inline std::vector<lightmap_cell> exact_lightmap(const walk_model& m, const ligh
       }
   const std::size_t cells = sc.voxel_count();
   std::vector<lightmap_cell> out(cells * 3);
-  std::atomic<std::size_t> next{0};
-  auto work = [&] {
-    for (std::size_t job; (job = next.fetch_add(1)) < cells * 3;) {
-      const std::size_t cell = job / 3;
-      const int c = static_cast<int>(job % 3);
-      const auto xyz = sc.coords(cell);
-      lightmap_cell& r = out[job];
-      r.x = xyz[0];
-      r.y = xyz[1];
-      r.z = xyz[2];
-      r.channel = c;
-      r.emission_scale = sc.emission_scale(c);
-      if (source[c] != c) continue;  // filled in below
-      const walk_start start = m.light_map_start(xyz);
-      walk_options o;
-      o.steps = opt.steps;
-      o.prune = opt.prune;
-      o.channel = c;
-      r.classical = path_sum(m, start, opt.steps, c) / (static_cast<double>(opt.steps) * r.emission_scale);
-      if (opt.faithful) r.faithful = run(make_walk_program(m, start, o));
-      if (opt.history) {
-        o.variant = walk_variant::history;
-        r.history = run(make_walk_program(m, start, o));
-      }
+  detail::parallel_jobs(cells * 3, opt.threads, [&](std::size_t job) {
+    const std::size_t cell = job / 3;
+    const int c = static_cast<int>(job % 3);
+    const auto xyz = sc.coords(cell);
+    lightmap_cell& r = out[job];
+    r.x = xyz[0];
+    r.y = xyz[1];
+    r.z = xyz[2];
+    r.channel = c;
+    r.emission_scale = sc.emission_scale(c);
+    if (source[c] != c) return;  // filled in below
+    const walk_start start = m.light_map_start(xyz);
+    walk_options o;
+    o.steps = opt.steps;
+    o.prune = opt.prune;
+    o.channel = c;
+    r.classical = path_sum(m, start, opt.steps, c) / (static_cast<double>(opt.steps) * r.emission_scale);
+    if (opt.faithful) r.faithful = run(make_walk_program(m, start, o));
+    if (opt.history) {
+      o.variant = walk_variant::history;
+      r.history = run(make_walk_program(m, start, o));
     }
-  };
-  const unsigned threads = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
+  });
   for (std::size_t cell = 0; cell < cells; ++cell)
     for (int c = 0; c < 3; ++c)
       if (source[c] != c) {
