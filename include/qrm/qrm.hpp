@@ -6,6 +6,9 @@
 //   circuit.hpp          seq, repeat, unroll, circuit<L, ...>, compile-time metrics, run()
 //   ops.hpp              the primitive instruction set every backend implements (gate_sink)
 //   program.hpp          run-time programs: record, replay, invert
+//   metrics.hpp          width, logical depth and gate counts of a program
+//   decompose.hpp        lowering to single-qubit gates + CNOTs (with ancillas), decomposed counts
+//   qasm.hpp             OpenQASM 3 export (logical or decomposed) and import
 //   backends/dense.hpp   state_vector<S>: the dense backend
 //   measure.hpp          probabilities, distributions and samples through a layout
 //   random.hpp           seeded generator, binomial sampling
@@ -18,6 +21,9 @@
 #include "gates.hpp"
 #include "circuit.hpp"
 #include "program.hpp"
+#include "metrics.hpp"
+#include "decompose.hpp"
+#include "qasm.hpp"
 #include "random.hpp"
 #include "measure.hpp"
 #include "backends/dense.hpp"
