@@ -439,17 +439,18 @@ TEST_CASE("difference, false colour, side by side, statistics") {
   CHECK(false_colour(err).at(1, 0) == error_ramp(1));
   CHECK(contains(error_of([&] { false_colour(err, -1); }), "max_value -1"));
 
-  // Panels: 2x2 and 3x1 with a 2-pixel gap -> 7x2; the short panel at row (2 - 1) / 2 = 0.
-  image p1(2, 2, {1, 0, 0}), p2(3, 1, {0, 1, 0});
+  // Panels: 2x3 and 3x1 with a 2-pixel gap -> 7x3; the short panel starts at row (3 - 1) / 2 = 1.
+  image p1(2, 3, {1, 0, 0}), p2(3, 1, {0, 1, 0});
   const image both = side_by_side(p1, p2, 2, {0, 0, 1});
   CHECK(both.width() == 7);
-  CHECK(both.height() == 2);
-  CHECK(both.at(1, 1) == rgb{1, 0, 0});
-  CHECK(both.at(2, 0) == rgb{0, 0, 1});
-  CHECK(both.at(3, 1) == rgb{0, 0, 1});
-  CHECK(both.at(4, 0) == rgb{0, 1, 0});
-  CHECK(both.at(6, 0) == rgb{0, 1, 0});
-  CHECK(both.at(6, 1) == rgb{0, 0, 1});
+  CHECK(both.height() == 3);
+  for (std::size_t y = 0; y < 3; ++y) {
+    CAPTURE(y);
+    CHECK(both.at(1, y) == rgb{1, 0, 0});  // first panel, full height
+    CHECK(both.at(2, y) == rgb{0, 0, 1});  // gap
+    CHECK(both.at(3, y) == rgb{0, 0, 1});
+    for (std::size_t x = 4; x < 7; ++x) CHECK(both.at(x, y) == (y == 1 ? rgb{0, 1, 0} : rgb{0, 0, 1}));
+  }
   CHECK(contains(error_of([] { side_by_side(std::span<const image>{}); }), "no panels"));
 }
 
