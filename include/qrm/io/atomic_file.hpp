@@ -1,0 +1,181 @@
+// qrm/io/atomic_file.hpp: whole-file writes that never leave a half-written output.
+//
+// write_file_atomically(target, writer) creates the missing parent directories, writes into a
+// fresh temporary file in the target's own directory (".<name>.<pid>.<counter>.tmp", opened
+// exclusively), flushes it, fsyncs it (POSIX), and renames it over the target. A reader of
+// `target` therefore sees the old content or the new content, never a mixture. On any failure
+// the temporary file is removed and the error propagates: our own I/O failures throw
+// std::runtime_error naming the path and the reason (the errno text); an exception thrown by the
+// writer callback is rethrown unchanged after the clean-up. (On POSIX, rename replaces an
+// existing target atomically; other systems are not supported by this header's guarantees.)
+#pragma once
+
+#include <atomic>
+#include <cerrno>
+#include <concepts>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <utility>
+
+#if defined(__unix__) || defined(__APPLE__)
+#include <fcntl.h>
+#include <unistd.h>
+#define QRM_IO_POSIX 1
+#else
+#define QRM_IO_POSIX 0
+#endif
+
+namespace qrm::detail {
+
+inline std::string errno_text(int err) { return std::error_code(err, std::generic_category()).message(); }
+
+// One counter per process: with the pid it makes temporary names unique across threads and
+// processes writing into the same directory.
+inline std::atomic<std::uint64_t> temp_file_counter{0};
+
+inline unsigned long process_id() {
+#if QRM_IO_POSIX
+  return static_cast<unsigned long>(::getpid());
+#else
+  return 0;
+#endif
+}
+
+// Best effort: makes the rename itself durable. Some file systems refuse fsync on directories;
+// the content is already safe at that point, so failures are ignored.
+inline void sync_directory(const std::filesystem::path& dir) {
+#if QRM_IO_POSIX
+  const std::string d = dir.empty() ? std::string(".") : dir.string();
+  const int fd = ::open(d.c_str(), O_RDONLY);
+  if (fd >= 0) {
+    (void)::fsync(fd);
+    (void)::close(fd);
+  }
+#else
+  (void)dir;
+#endif
+}
+
+}  // namespace qrm::detail
+
+namespace qrm::io {
+
+// file_sink: what a writer callback writes into. Every failed write throws std::runtime_error
+// naming the file being written and the errno text.
+class file_sink {
+ public:
+  file_sink(std::FILE* f, std::filesystem::path target) : f_(f), target_(std::move(target)) {}
+  file_sink(const file_sink&) = delete;
+  file_sink& operator=(const file_sink&) = delete;
+
+  // write(data, n): appends n bytes.
+  void write(const void* data, std::size_t n) {
+    if (n == 0) return;
+    errno = 0;
+    if (std::fwrite(data, 1, n, f_) != n) fail("write");
+    written_ += n;
+  }
+  // write(text): appends the bytes of `text`.
+  void write(std::string_view text) { write(text.data(), text.size()); }
+  // put(byte): appends one byte.
+  void put(unsigned char byte) { write(&byte, 1); }
+  // bytes_written(): total bytes appended so far.
+  std::uint64_t bytes_written() const { return written_; }
+
+ private:
+  [[noreturn]] void fail(const char* what) const {
+    const int err = errno;
+    throw std::runtime_error("cannot " + std::string(what) + " '" + target_.string() +
+                             "': " + (err != 0 ? detail::errno_text(err) : std::string("I/O error")));
+  }
+  std::FILE* f_;
+  std::filesystem::path target_;
+  std::uint64_t written_ = 0;
+};
+
+// ensure_parent_directory(target): creates the directories leading to `target` if missing;
+// throws std::runtime_error naming the directory and the reason (e.g. a component is a file).
+inline void ensure_parent_directory(const std::filesystem::path& target) {
+  const std::filesystem::path dir = target.parent_path();
+  if (dir.empty()) return;
+  std::error_code ec;
+  if (std::filesystem::is_directory(dir, ec)) return;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir))
+    throw std::runtime_error("cannot create directory '" + dir.string() + "' for '" + target.string() + "': " +
+                             (ec ? ec.message() : std::string("a path component is not a directory")));
+}
+
+// write_file_atomically(target, writer): calls writer(file_sink&) to produce the whole content of
+// `target`, then replaces `target` with it in one rename. See the header comment for guarantees.
+template <std::invocable<file_sink&> Writer>
+void write_file_atomically(const std::filesystem::path& target, Writer&& writer) {
+  if (target.empty()) throw std::invalid_argument("write_file_atomically: the target path is empty");
+  if (!target.has_filename())
+    throw std::invalid_argument("write_file_atomically: '" + target.string() + "' does not name a file");
+  ensure_parent_directory(target);
+
+  const std::filesystem::path dir = target.parent_path();
+  std::filesystem::path temp;
+  std::FILE* f = nullptr;
+  // "x" (C11, exclusive create) refuses an existing file, so a stale temporary file from a
+  // crashed process is never reused or clobbered; a collision just takes the next counter.
+  for (int attempt = 0; attempt < 100 && f == nullptr; ++attempt) {
+    const std::uint64_t n = detail::temp_file_counter.fetch_add(1);
+    std::string name = ".";
+    name.append(target.filename().string()).append(".").append(std::to_string(detail::process_id()));
+    name.append(".").append(std::to_string(n)).append(".tmp");
+    temp = dir / name;
+    errno = 0;
+    f = std::fopen(temp.string().c_str(), "wbx");
+    if (f == nullptr && errno != EEXIST) break;
+  }
+  if (f == nullptr) {
+    const int err = errno;
+    throw std::runtime_error("cannot create temporary file '" + temp.string() + "' for '" + target.string() +
+                             "': " + detail::errno_text(err));
+  }
+
+  auto fail = [&](const std::string& what, int err) {
+    if (f != nullptr) std::fclose(f);
+    f = nullptr;
+    std::remove(temp.string().c_str());
+    throw std::runtime_error("cannot write '" + target.string() + "' (" + what + "): " +
+                             (err != 0 ? detail::errno_text(err) : std::string("I/O error")));
+  };
+
+  try {
+    file_sink sink(f, target);
+    std::forward<Writer>(writer)(sink);
+  } catch (...) {
+    std::fclose(f);
+    std::remove(temp.string().c_str());
+    throw;
+  }
+  errno = 0;
+  if (std::fflush(f) != 0) fail("flush", errno);
+#if QRM_IO_POSIX
+  errno = 0;
+  if (::fsync(::fileno(f)) != 0) fail("fsync", errno);
+#endif
+  errno = 0;
+  const int closed = std::fclose(f);
+  f = nullptr;
+  if (closed != 0) fail("close", errno);
+  errno = 0;
+  if (std::rename(temp.string().c_str(), target.string().c_str()) != 0)
+    fail("rename from '" + temp.string() + "'", errno);
+  detail::sync_directory(dir);
+}
+
+// write_file_atomically(target, contents): the same, for content already in memory.
+inline void write_file_atomically(const std::filesystem::path& target, std::string_view contents) {
+  write_file_atomically(target, [contents](file_sink& out) { out.write(contents); });
+}
+
+}  // namespace qrm::io
