@@ -27,20 +27,30 @@ level_report report_for(const qrm::walk_model& m, const qrm::walk_start& start, 
   return {qrm::measure(w.circuit), qrm::decomposed_metrics(w.circuit)};
 }
 
-std::string json_level(const level_report& r) {
-  std::string s = "{\"width\":" + std::to_string(r.logical.width) +
-                  ",\"logical_depth\":" + std::to_string(r.logical.logical_depth) +
-                  ",\"gate_count\":" + std::to_string(r.logical.gate_count) +
-                  ",\"decomposed_depth\":" + std::to_string(r.decomposed.depth) +
-                  ",\"decomposed_cnot_count\":" + std::to_string(r.decomposed.cnot_count) +
-                  ",\"decomposed_single_qubit_count\":" + std::to_string(r.decomposed.single_qubit_count) +
-                  ",\"decomposed_ancillas\":" + std::to_string(r.decomposed.ancillas) + ",\"gates_by_kind\":{";
-  bool first = true;
-  for (const auto& [k, v] : r.logical.by_kind) {
-    s += std::string(first ? "" : ",") + "\"" + k + "\":" + std::to_string(v);
-    first = false;
+// Appends `"key":value` pieces one by one (g++ 12 at -O3 warns falsely, -Wrestrict, on long
+// chains of std::string temporaries).
+struct json_object {
+  std::string text = "{";
+  json_object& raw(const std::string& key, const std::string& value) {
+    if (text.size() > 1) text += ',';
+    text += '"';
+    text += key;
+    text += "\":";
+    text += value;
+    return *this;
   }
-  return s + "}}";
+  json_object& num(const std::string& key, std::size_t v) { return raw(key, std::to_string(v)); }
+  json_object& str(const std::string& key, const std::string& v) { return raw(key, "\"" + v + "\""); }
+  std::string done() const { return text + "}"; }
+};
+
+void add_level(json_object& j, const level_report& r) {
+  j.num("width", r.logical.width).num("logical_depth", r.logical.logical_depth).num("gate_count", r.logical.gate_count);
+  j.num("decomposed_depth", r.decomposed.depth).num("decomposed_cnot_count", r.decomposed.cnot_count);
+  j.num("decomposed_single_qubit_count", r.decomposed.single_qubit_count).num("decomposed_ancillas", r.decomposed.ancillas);
+  json_object kinds;
+  for (const auto& [k, v] : r.logical.by_kind) kinds.num(k, v);
+  j.raw("gates_by_kind", kinds.done());
 }
 
 }  // namespace
@@ -75,23 +85,24 @@ int cmd_circuit(args& a) {
   const std::size_t formula_width = 2 * p_bits + d_bits + s + (s - 1) + qrm::steps_register_bits(s) + 1 +
                                     (o.variant == qrm::walk_variant::history ? (s - 1) * d_bits : 0);
 
-  std::string json = "{\"scene\":\"" + sc.name() + "\",\"x\":" + std::to_string(cell[0]) + ",\"y\":" +
-                     std::to_string(cell[1]) + ",\"steps\":" + std::to_string(s) + ",\"variant\":\"" + variant +
-                     "\",\"channel\":" + std::to_string(o.channel) + ",\"prune\":\"" + qrm::pruning_name(o.prune) + "\",";
-  const std::string chosen_json = json_level(chosen);
-  json += chosen_json.substr(1, chosen_json.size() - 2);  // this level's keys at the top level
-  json += ",\"formula_width\":" + std::to_string(formula_width) + ",\"full_width\":" + std::to_string(w.full_width);
-  json += ",\"terms_kept\":[";
-  for (unsigned i = 0; i < s; ++i) json += std::string(i ? "," : "") + (w.tables.term_kept[i] ? "true" : "false");
-  json += "],\"pruning\":{";
-  bool first = true;
+  json_object j;
+  j.str("scene", sc.name()).num("x", cell[0]).num("y", cell[1]).num("steps", s).str("variant", variant);
+  j.num("channel", static_cast<std::size_t>(o.channel)).str("prune", qrm::pruning_name(o.prune));
+  add_level(j, chosen);
+  j.num("formula_width", formula_width).num("full_width", w.full_width);
+  std::string kept = "[";
+  for (unsigned i = 0; i < s; ++i) kept += std::string(i ? "," : "") + (w.tables.term_kept[i] ? "true" : "false");
+  j.raw("terms_kept", kept + "]");
+  json_object levels;
   for (qrm::pruning p : {qrm::pruning::none, qrm::pruning::scene, qrm::pruning::reachable}) {
     qrm::walk_options q = o;
     q.prune = p;
-    json += std::string(first ? "" : ",") + "\"" + qrm::pruning_name(p) + "\":" + json_level(report_for(m, start, q));
-    first = false;
+    json_object l;
+    add_level(l, report_for(m, start, q));
+    levels.raw(qrm::pruning_name(p), l.done());
   }
-  json += "}}";
+  j.raw("pruning", levels.done());
+  const std::string json = j.done();
   std::printf("%s\n", json.c_str());
 
   if (a.has("qasm")) {

@@ -14,5 +14,6 @@ struct command {
 // Each returns the process exit code; usage problems throw usage_error.
 int cmd_version(args&);
 int cmd_lightmap(args&);
+int cmd_circuit(args&);
 
 }  // namespace qrm_cli

@@ -19,6 +19,7 @@ int cmd_version(args& a) {
 static const command commands[] = {
     {"version", "print the version", cmd_version},
     {"lightmap", "exact light maps of a 2D scene: faithful, history and classical", cmd_lightmap},
+    {"circuit", "metrics of one start point's A operator at every pruning level; --qasm FILE exports it", cmd_circuit},
 };
 
 static void print_usage(std::FILE* out) {

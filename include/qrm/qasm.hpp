@@ -201,10 +201,19 @@ struct qasm_definitions {
 
  private:
   void define(const std::string& name, std::size_t k, const std::vector<local_gate>& body) {
-    text += "gate " + name;
-    for (std::size_t i = 0; i < k; ++i) text += (i ? ", a" : " a") + std::to_string(i);
+    text += "gate ";
+    text += name;
+    for (std::size_t i = 0; i < k; ++i) {
+      text += i ? ", a" : " a";
+      text += std::to_string(i);
+    }
     text += " {\n";
-    qasm_writer w(text, "  ", [](qubit_index q) { return "a" + std::to_string(q); });
+    // Built by appending: g++ 12 at -O3 warns falsely (-Wrestrict) on "a" + std::to_string(q).
+    qasm_writer w(text, "  ", [](qubit_index q) {
+      std::string r = "a";
+      r += std::to_string(q);
+      return r;
+    });
     for (const local_gate& g : body) w.gate(g.gate, g.target, g.controls);
     w.flush_global_phase();
     text += "}\n";
