@@ -13,5 +13,6 @@ struct command {
 
 // Each returns the process exit code; usage problems throw usage_error.
 int cmd_version(args&);
+int cmd_estimate(args&);
 
 }  // namespace qrm_cli

@@ -18,6 +18,7 @@ int cmd_version(args& a) {
 
 static const command commands[] = {
     {"version", "print the version", cmd_version},
+    {"estimate", "estimate a Bernoulli amplitude with fae, iqae, mlae, canonical, qcoin or mc", cmd_estimate},
 };
 
 static void print_usage(std::FILE* out) {
