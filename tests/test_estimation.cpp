@@ -216,6 +216,22 @@ TEST_CASE("canonical AE: the closed-form phase law equals a simulated phase-esti
   }
 }
 
+TEST_CASE("the shot sampler treats rounding-level probabilities as exactly 0 and 1") {
+  // An analytic 0 and a simulated 1e-17 must leave the generator in the same state, or every
+  // later count of the run would differ between the two oracles.
+  qrm::estimation_result r1, r2;
+  qrm::rng g1(8), g2(8);
+  qrm::detail::shot_sampler s1(g1, false, r1), s2(g2, false, r2);
+  CHECK(s1.hits(0.0, 1000) == 0);
+  CHECK(s2.hits(1e-17, 1000) == 0);
+  CHECK(s1.hits(1.0, 1000) == 1000);
+  CHECK(s2.hits(1.0 - 1e-16, 1000) == 1000);
+  CHECK(g1() == g2());
+  // Exact mode returns shots * p without drawing.
+  qrm::detail::shot_sampler e(g1, true, r1);
+  CHECK(e.hits(0.25, 1000) == 250.0);
+}
+
 TEST_CASE("analytic and simulated oracles give identical counts for the same seed, for every estimator") {
   qrm::rng gp(2024);
   for (std::size_t n : {6, 8, 10}) {
