@@ -15,5 +15,6 @@ struct command {
 int cmd_version(args&);
 int cmd_lightmap(args&);
 int cmd_circuit(args&);
+int cmd_estimate(args&);
 
 }  // namespace qrm_cli

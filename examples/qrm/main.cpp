@@ -20,6 +20,7 @@ static const command commands[] = {
     {"version", "print the version", cmd_version},
     {"lightmap", "exact light maps of a 2D scene: faithful, history and classical", cmd_lightmap},
     {"circuit", "metrics of one start point's A operator at every pruning level; --qasm FILE exports it", cmd_circuit},
+    {"estimate", "estimate a Bernoulli amplitude with fae, iqae, mlae, canonical, qcoin or mc", cmd_estimate},
 };
 
 static void print_usage(std::FILE* out) {

@@ -19,6 +19,16 @@
 //   io/csv.hpp           results tables as CSV (round-trip numbers) and Markdown
 //   io/atomic_file.hpp   whole-file writes via temp file + rename, creating directories
 //   io/progress.hpp      thread-safe progress bar on stderr
+//   estimation/problem.hpp      estimation_problem (A program + good controls), bernoulli, sine_integral
+//   estimation/grover.hpp       Grover operator Q = A S0 A^dagger S_chi, reflections, rescaling, qcoin coin
+//   estimation/oracle.hpp       oracles an estimator asks for p_k: analytic_oracle, simulated_oracle<B>
+//   estimation/result.hpp       estimation_result (estimate, interval, calls, rounds), to_radiance
+//   estimation/fae.hpp          Faster Amplitude Estimation (Nakaji), exactly as SPEC.md section 5
+//   estimation/iqae.hpp         Iterative Amplitude Estimation (Grinko et al.), Clopper-Pearson / Chernoff
+//   estimation/mlae.hpp         Maximum-Likelihood Amplitude Estimation (Suzuki et al.), Fisher interval
+//   estimation/canonical.hpp    canonical QPE-based amplitude estimation (Brassard et al.) + MLE
+//   estimation/qcoin.hpp        quantum coin method (Shimada and Hachisuka 2020)
+//   estimation/monte_carlo.hpp  classical Monte Carlo baseline on the same oracle
 #pragma once
 
 #include "version.hpp"
@@ -41,3 +51,13 @@
 #include "io/csv.hpp"
 #include "io/atomic_file.hpp"
 #include "io/progress.hpp"
+#include "estimation/problem.hpp"
+#include "estimation/grover.hpp"
+#include "estimation/oracle.hpp"
+#include "estimation/result.hpp"
+#include "estimation/fae.hpp"
+#include "estimation/iqae.hpp"
+#include "estimation/mlae.hpp"
+#include "estimation/canonical.hpp"
+#include "estimation/qcoin.hpp"
+#include "estimation/monte_carlo.hpp"

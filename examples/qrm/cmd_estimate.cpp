@@ -1,0 +1,260 @@
+// examples/qrm/cmd_estimate.cpp: `qrm estimate`, amplitude estimation of a Bernoulli amplitude
+// (one qubit rotated so that P(1) = P) with any of the library's estimators.
+#include <cinttypes>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <qrm/qrm.hpp>
+#include <set>
+#include <string>
+
+#include "commands.hpp"
+
+namespace qrm_cli {
+
+namespace {
+
+const char* const estimate_usage =
+    "usage: qrm estimate --probability P [--estimator NAME] [flags] [--format json|text]\n"
+    "  Estimates a Bernoulli amplitude: A = Ry(2 asin sqrt P) on one qubit, good = the qubit is 1.\n"
+    "  --estimator NAME         fae (default) | iqae | mlae | canonical | qcoin | mc\n"
+    "  --probability P          the amplitude to estimate, in [0, 1] (required)\n"
+    "  --exact-probabilities    use the exact probabilities instead of shot frequencies\n"
+    "  --seed S                 generator seed, integer >= 0 (default 1)\n"
+    "  --format json|text       output format (default json)\n"
+    "  --help                   print this and exit\n"
+    "  fae:       --delta D (0.01), --maxiter L (5), --rescale (default) | --no-rescale\n"
+    "  iqae:      --epsilon E (0.01), --alpha A (0.05), --shots N per round (100), --interval cp|ch (cp)\n"
+    "  mlae:      --alpha A (0.05), --shots N per power (100), --schedule exponential|linear (exponential),\n"
+    "             --m M (5: powers 0,1,2,..,2^(M-1), M <= 30; or 0,1,..,M, M <= 256)\n"
+    "  canonical: --alpha A (0.05), --shots N (100), --evaluation-qubits M (5, at most 12)\n"
+    "  qcoin:     --alpha A (0.05), --shots N per step (100), --steps K (4)\n"
+    "  mc:        --alpha A (0.05), --shots N (1000)\n";
+
+[[noreturn]] void fail(const std::string& message) {
+  throw usage_error(message + "\n" + estimate_usage);
+}
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\')
+      out += '\\', out += c;
+    else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+      out += buf;
+    } else
+      out += c;
+  }
+  return out + "\"";
+}
+
+std::string num(double x) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+std::string num(std::uint64_t x) {
+  return std::to_string(x);
+}
+
+}  // namespace
+
+int cmd_estimate(args& a) {
+  try {
+    a.allow({"estimator", "probability", "delta", "maxiter", "rescale", "no-rescale", "epsilon", "alpha", "shots",
+             "interval", "schedule", "m", "evaluation-qubits", "steps", "exact-probabilities", "seed", "format",
+             "help"});
+  } catch (const usage_error& e) {
+    fail(e.what());
+  }
+  if (a.has("help")) {
+    std::fputs(estimate_usage, stdout);
+    return 0;
+  }
+  const std::string name = a.str("estimator", "fae");
+  static const std::set<std::string> names{"fae", "iqae", "mlae", "canonical", "qcoin", "mc"};
+  if (!names.count(name))
+    fail("estimate: --estimator must be one of fae, iqae, mlae, canonical, qcoin, mc; got '" + name + "'");
+
+  // Flags that belong to other estimators are errors, not silently ignored.
+  const std::set<std::string> own = [&]() -> std::set<std::string> {
+    if (name == "fae") return {"delta", "maxiter", "rescale", "no-rescale"};
+    if (name == "iqae") return {"epsilon", "alpha", "shots", "interval"};
+    if (name == "mlae") return {"alpha", "shots", "schedule", "m"};
+    if (name == "canonical") return {"alpha", "shots", "evaluation-qubits"};
+    if (name == "qcoin") return {"alpha", "shots", "steps"};
+    return {"alpha", "shots"};
+  }();
+  for (const char* f : {"delta", "maxiter", "rescale", "no-rescale", "epsilon", "alpha", "shots", "interval",
+                        "schedule", "m", "evaluation-qubits", "steps"})
+    if (a.has(f) && !own.count(f)) fail("estimate: --" + std::string(f) + " does not apply to --estimator " + name);
+
+  double p = 0;
+  std::uint64_t seed = 1;
+  std::string format;
+  bool exact = false;
+  try {
+    if (!a.has("probability")) fail("estimate: missing required flag --probability");
+    p = a.required_number("probability");
+    if (!(p >= 0.0 && p <= 1.0)) fail("estimate: --probability must be in [0, 1], got " + a.str("probability", ""));
+    seed = static_cast<std::uint64_t>(a.integer("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
+    format = a.str("format", "json");
+    if (format != "json" && format != "text") fail("estimate: --format must be json or text, got '" + format + "'");
+    exact = a.flag("exact-probabilities");
+  } catch (const usage_error& e) {
+    if (std::string(e.what()).find("usage:") != std::string::npos) throw;
+    fail(e.what());
+  }
+
+  auto number_in = [&](const char* flag, double fallback, double lo, double hi, bool open_lo, bool open_hi) {
+    double x = 0;
+    try {
+      x = a.number(flag, fallback);
+    } catch (const usage_error& e) {
+      fail(e.what());
+    }
+    const bool ok = (open_lo ? x > lo : x >= lo) && (open_hi ? x < hi : x <= hi);
+    if (!ok)
+      fail("estimate: --" + std::string(flag) + " must be in " + (open_lo ? "(" : "[") + num(lo) + ", " + num(hi) +
+           (open_hi ? ")" : "]") + ", got " + a.str(flag, ""));
+    return x;
+  };
+  auto integer_in = [&](const char* flag, std::int64_t fallback, std::int64_t lo, std::int64_t hi) {
+    try {
+      return a.integer(flag, fallback, lo, hi);
+    } catch (const usage_error& e) {
+      fail(e.what());
+    }
+  };
+  auto word = [&](const char* flag, const std::string& fallback, std::initializer_list<const char*> allowed) {
+    std::string v;
+    try {
+      v = a.str(flag, fallback);
+    } catch (const usage_error& e) {
+      fail(e.what());
+    }
+    std::string list;
+    for (const char* w : allowed) {
+      if (v == w) return v;
+      list += (list.empty() ? "" : ", ") + std::string(w);
+    }
+    fail("estimate: --" + std::string(flag) + " must be one of " + list + "; got '" + v + "'");
+  };
+
+  qrm::analytic_oracle oracle(p);
+  qrm::rng g(seed);
+  qrm::estimation_result r;
+  std::string options;  // JSON members describing the options used
+  if (name == "fae") {
+    qrm::fae_options o;
+    o.delta = number_in("delta", o.delta, 0.0, 1.0, true, true);
+    o.maxiter = static_cast<unsigned>(integer_in("maxiter", o.maxiter, 1, 40));
+    bool yes = false, no = false;
+    try {
+      yes = a.flag("rescale");
+      no = a.flag("no-rescale");
+    } catch (const usage_error& e) {
+      fail(e.what());
+    }
+    if (yes && no) fail("estimate: give either --rescale or --no-rescale, not both");
+    o.rescale = !no;
+    o.exact_probabilities = exact;
+    r = qrm::faster_amplitude_estimation(oracle, o, g);
+    options = "\"delta\":" + num(o.delta) + ",\"maxiter\":" + num(std::uint64_t{o.maxiter}) +
+              ",\"rescale\":" + (o.rescale ? "true" : "false");
+  } else if (name == "iqae") {
+    qrm::iqae_options o;
+    o.epsilon = number_in("epsilon", o.epsilon, 0.0, 0.5, true, false);
+    o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);
+    o.shots = static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots), 1, 1000000000000));
+    o.interval = word("interval", "cp", {"cp", "ch"}) == "cp" ? qrm::iqae_interval::clopper_pearson
+                                                              : qrm::iqae_interval::chernoff_hoeffding;
+    o.exact_probabilities = exact;
+    r = qrm::iterative_amplitude_estimation(oracle, o, g);
+    options = "\"epsilon\":" + num(o.epsilon) + ",\"alpha\":" + num(o.alpha) + ",\"shots_per_round\":" + num(o.shots) +
+              ",\"interval\":\"" + (o.interval == qrm::iqae_interval::clopper_pearson ? "cp" : "ch") + "\"";
+  } else if (name == "mlae") {
+    qrm::mlae_options o;
+    o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);
+    o.shots = static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots), 1, 1000000000000));
+    o.schedule = word("schedule", "exponential", {"exponential", "linear"}) == "linear"
+                     ? qrm::mlae_schedule::linear
+                     : qrm::mlae_schedule::exponential;
+    o.m = static_cast<unsigned>(integer_in("m", o.m, 0, o.schedule == qrm::mlae_schedule::linear ? 256 : 30));
+    o.exact_probabilities = exact;
+    r = qrm::maximum_likelihood_amplitude_estimation(oracle, o, g);
+    options = "\"alpha\":" + num(o.alpha) + ",\"shots_per_power\":" + num(o.shots) + ",\"schedule\":\"" +
+              (o.schedule == qrm::mlae_schedule::linear ? "linear" : "exponential") +
+              "\",\"m\":" + num(std::uint64_t{o.m});
+  } else if (name == "canonical") {
+    qrm::canonical_options o;
+    o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);
+    o.shots = static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots), 1, 1000000000000));
+    o.evaluation_qubits = static_cast<unsigned>(integer_in("evaluation-qubits", o.evaluation_qubits, 1, 12));
+    o.exact_probabilities = exact;
+    r = qrm::canonical_amplitude_estimation(oracle, o, g);
+    options = "\"alpha\":" + num(o.alpha) + ",\"shots\":" + num(o.shots) +
+              ",\"evaluation_qubits\":" + num(std::uint64_t{o.evaluation_qubits});
+  } else if (name == "qcoin") {
+    qrm::qcoin_options o;
+    o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);
+    o.shots_per_step =
+        static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots_per_step), 1, 1000000000000));
+    o.steps = static_cast<unsigned>(integer_in("steps", o.steps, 1, 16));
+    o.exact_probabilities = exact;
+    r = qrm::quantum_coin_estimation(oracle, o, g);
+    options = "\"alpha\":" + num(o.alpha) + ",\"shots_per_step\":" + num(o.shots_per_step) +
+              ",\"steps\":" + num(std::uint64_t{o.steps});
+  } else {
+    qrm::monte_carlo_options o;
+    o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);
+    o.shots = static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots), 1, 1000000000000));
+    o.exact_probabilities = exact;
+    r = qrm::monte_carlo_estimation(oracle, o, g);
+    options = "\"alpha\":" + num(o.alpha) + ",\"shots\":" + num(o.shots);
+  }
+
+  if (format == "text") {
+    std::printf("estimator %s, P = %s%s\n", r.estimator.c_str(), num(p).c_str(), exact ? " (exact probabilities)" : "");
+    std::printf("estimate  %s\ninterval  [%s, %s] (confidence %s)\n", num(r.estimate).c_str(),
+                num(r.confidence_interval[0]).c_str(), num(r.confidence_interval[1]).c_str(),
+                num(r.confidence).c_str());
+    std::printf("A calls   %" PRIu64 "\nQ calls   %" PRIu64 "\nshots     %" PRIu64 "\n", r.a_calls, r.grover_calls,
+                r.shots);
+    if (r.check_a_calls)
+      std::printf("check     %" PRIu64 " A calls (k = 0 domain check, not counted above)\n", r.check_a_calls);
+    if (!r.warning.empty()) std::printf("warning   %s\n", r.warning.c_str());
+    return 0;
+  }
+  std::string j = "{\"estimator\":" + json_string(r.estimator) + ",\"probability\":" + num(p) +
+                  ",\"estimate\":" + num(r.estimate) + ",\"raw_estimate\":" + num(r.raw_estimate) +
+                  ",\"confidence_interval\":[" + num(r.confidence_interval[0]) + "," + num(r.confidence_interval[1]) +
+                  "],\"confidence\":" + num(r.confidence) + ",\"oracle_calls\":" + num(r.a_calls) +
+                  ",\"grover_calls\":" + num(r.grover_calls) + ",\"shots\":" + num(r.shots);
+  if (r.standard_error) j += ",\"standard_error\":" + num(*r.standard_error);
+  if (r.check_shots) j += ",\"check_oracle_calls\":" + num(r.check_a_calls) + ",\"check_shots\":" + num(r.check_shots);
+  j += ",\"exact_probabilities\":" + std::string(exact ? "true" : "false") + ",\"seed\":" + num(seed) +
+       ",\"options\":{" + options + "}";
+  j += ",\"rounds\":[";
+  for (std::size_t i = 0; i < r.rounds.size(); ++i) {
+    const auto& rr = r.rounds[i];
+    j += std::string(i ? "," : "") + "{\"power\":" + num(rr.power) + ",\"shots\":" + num(rr.shots) +
+         ",\"hits\":" + num(rr.hits);
+    if (r.estimator == "qcoin") j += ",\"reference\":" + num(rr.reference);
+    j += "}";
+  }
+  j += "]";
+  if (!r.phase_counts.empty()) {
+    j += ",\"phase_counts\":[";
+    for (std::size_t i = 0; i < r.phase_counts.size(); ++i) j += (i ? "," : "") + num(r.phase_counts[i]);
+    j += "]";
+  }
+  if (!r.warning.empty()) j += ",\"warning\":" + json_string(r.warning);
+  j += ",\"seconds\":" + num(r.seconds) + "}";
+  std::printf("%s\n", j.c_str());
+  return 0;
+}
+
+}  // namespace qrm_cli
