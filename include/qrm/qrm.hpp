@@ -7,6 +7,7 @@
 //   ops.hpp              the primitive instruction set every backend implements (gate_sink)
 //   program.hpp          run-time programs: record, replay, invert
 //   backends/dense.hpp   state_vector<S>: the dense backend
+//   backends/compact.hpp compact_state<S, L>: only the nonzero amplitudes (labels: uint64_t or wide_label<W>)
 //   measure.hpp          probabilities, distributions and samples through a layout
 //   random.hpp           seeded generator, binomial sampling
 #pragma once
@@ -21,3 +22,4 @@
 #include "random.hpp"
 #include "measure.hpp"
 #include "backends/dense.hpp"
+#include "backends/compact.hpp"
