@@ -271,14 +271,17 @@ TEST_CASE_TEMPLATE_DEFINE("threads do not change a single bit of the result", B,
   CHECK(a.norm_squared() == b.norm_squared());
 }
 
-TEST_CASE_TEMPLATE_INVOKE(gate1_placements, qrm::state_vector<double>, qrm::state_vector<float>,
-                          qrm::state_vector<std::complex<double>>, qrm::state_vector<std::complex<float>>);
-TEST_CASE_TEMPLATE_INVOKE(unitary_placements, qrm::state_vector<double>, qrm::state_vector<float>,
-                          qrm::state_vector<std::complex<double>>, qrm::state_vector<std::complex<float>>);
-TEST_CASE_TEMPLATE_INVOKE(add_placements, qrm::state_vector<double>, qrm::state_vector<float>,
-                          qrm::state_vector<std::complex<double>>, qrm::state_vector<std::complex<float>>);
-TEST_CASE_TEMPLATE_INVOKE(mux_placements, qrm::state_vector<double>, qrm::state_vector<float>,
-                          qrm::state_vector<std::complex<double>>, qrm::state_vector<std::complex<float>>);
-TEST_CASE_TEMPLATE_INVOKE(norm_drift, qrm::state_vector<double>, qrm::state_vector<float>,
-                          qrm::state_vector<std::complex<double>>, qrm::state_vector<std::complex<float>>);
+// Every placement test runs on both backends, with every amplitude type.
+#define QRM_ALL_BACKENDS                                                                                             \
+  qrm::state_vector<double>, qrm::state_vector<float>, qrm::state_vector<std::complex<double>>,                     \
+      qrm::state_vector<std::complex<float>>, qrm::compact_state<double>, qrm::compact_state<float>,               \
+      qrm::compact_state<std::complex<double>>, qrm::compact_state<std::complex<float>>,                            \
+      qrm::compact_state<std::complex<double>, qrm::wide_label<2>>
+TEST_CASE_TEMPLATE_INVOKE(gate1_placements, QRM_ALL_BACKENDS);
+TEST_CASE_TEMPLATE_INVOKE(unitary_placements, QRM_ALL_BACKENDS);
+TEST_CASE_TEMPLATE_INVOKE(add_placements, QRM_ALL_BACKENDS);
+TEST_CASE_TEMPLATE_INVOKE(mux_placements, QRM_ALL_BACKENDS);
+TEST_CASE_TEMPLATE_INVOKE(norm_drift, QRM_ALL_BACKENDS);
+// Only the dense backend uses threads (the compact one is single-threaded; its determinism is
+// tested in test_compact.cpp).
 TEST_CASE_TEMPLATE_INVOKE(thread_determinism, qrm::state_vector<double>, qrm::state_vector<std::complex<double>>);

@@ -10,6 +10,7 @@
 //   decompose.hpp        lowering to single-qubit gates + CNOTs (with ancillas), decomposed counts
 //   qasm.hpp             OpenQASM 3 export (logical or decomposed) and import
 //   backends/dense.hpp   state_vector<S>: the dense backend
+//   backends/compact.hpp compact_state<S, L>: only the nonzero amplitudes (labels: uint64_t or wide_label<W>)
 //   measure.hpp          probabilities, distributions and samples through a layout
 //   random.hpp           seeded generator, binomial sampling
 //   io/image.hpp         linear-RGB float images: tone mapping to sRGB, upsampling, error maps, stats
@@ -61,3 +62,4 @@
 #include "estimation/canonical.hpp"
 #include "estimation/qcoin.hpp"
 #include "estimation/monte_carlo.hpp"
+#include "backends/compact.hpp"

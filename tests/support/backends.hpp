@@ -4,6 +4,7 @@
 
 #include <complex>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <qrm/qrm.hpp>
@@ -40,6 +41,34 @@ struct backend_traits<qrm::state_vector<S>> {
   static std::vector<std::complex<double>> dump(const backend& b) {
     std::vector<std::complex<double>> v(b.size());
     for (std::size_t i = 0; i < v.size(); ++i) v[i] = std::complex<double>(b.amplitudes()[i]);
+    return v;
+  }
+};
+
+// The compact backend: threads and the multiplexing strategy do not apply to it (it is
+// single-threaded and always visits the nonzero entries once).
+template <class S, class L>
+struct backend_traits<qrm::compact_state<S, L>> {
+  using backend = qrm::compact_state<S, L>;
+  static constexpr bool is_complex = backend::is_complex;
+  // Same arithmetic (double, one rounding per stored value) as the dense backend: same bars.
+  static constexpr double tolerance = backend_traits<qrm::state_vector<S>>::tolerance;
+  static std::string name() { return std::string("compact ") + qrm::detail::scalar_name<S>(); }
+  static backend make(std::size_t n, unsigned = 1, qrm::mux_strategy = qrm::mux_strategy::automatic) { return backend(n); }
+  static void load(backend& b, const std::vector<std::complex<double>>& v) {
+    std::vector<S> a(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if constexpr (is_complex)
+        a[i] = S(static_cast<typename backend::real_type>(v[i].real()), static_cast<typename backend::real_type>(v[i].imag()));
+      else
+        a[i] = static_cast<S>(v[i].real());
+    }
+    b.from_dense(a);
+  }
+  static std::vector<std::complex<double>> dump(const backend& b) {
+    const auto d = b.to_dense();
+    std::vector<std::complex<double>> v(d.size());
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] = std::complex<double>(d[i]);
     return v;
   }
 };

@@ -24,6 +24,7 @@
 #include "../detail/aligned_allocator.hpp"
 #include "../detail/bits.hpp"
 #include "../detail/dense_kernels.hpp"
+#include "../detail/scalar.hpp"
 #include "../ops.hpp"
 
 namespace qrm {
@@ -38,14 +39,6 @@ struct dense_options {
 };
 
 namespace detail {
-template <class S>
-constexpr const char* scalar_name() {
-  if constexpr (std::is_same_v<S, double>) return "double";
-  else if constexpr (std::is_same_v<S, float>) return "float";
-  else if constexpr (std::is_same_v<S, std::complex<double>>) return "complex<double>";
-  else return "complex<float>";
-}
-
 inline std::string format_bytes(long double bytes) {
   const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
   int u = 0;

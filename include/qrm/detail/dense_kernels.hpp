@@ -21,6 +21,7 @@
 
 #include "../ops.hpp"
 #include "bits.hpp"
+#include "scalar.hpp"
 #include "thread_pool.hpp"
 
 namespace qrm {
@@ -32,17 +33,6 @@ namespace qrm::detail {
 
 // Two doubles as one SSE2 register (GNU vector extension, supported by g++ >= 12 and clang).
 typedef double v2d __attribute__((vector_size(16)));
-
-template <class S>
-struct scalar_traits {
-  using real = S;
-  static constexpr bool is_complex = false;
-};
-template <class R>
-struct scalar_traits<std::complex<R>> {
-  using real = R;
-  static constexpr bool is_complex = true;
-};
 
 // How kernels may use threads: at most `threads`, and only when a kernel touches at least
 // `min_parallel` amplitudes (below that, waking workers costs more than the loop).

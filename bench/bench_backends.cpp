@@ -1,0 +1,417 @@
+// bench_backends: the same walk-shaped circuits on the dense and the compact backend.
+//
+// Each iteration builds a fresh state and runs the whole circuit (a run-time program recorded
+// once). Times are CPU times (both backends run single-threaded), so a busy machine distorts
+// them less than wall-clock time. Counters: `nonzeros` (amplitudes stored at the end), `peak_MiB` (the backend's own
+// high-water mark: the dense vector, or the compact backend's buffers), `dense_MiB` (2^n *
+// sizeof(Scalar)) and `mem_fraction` = peak / dense.
+//
+// Circuits:
+//   open_walk   D position registers of P qubits, a 3-qubit direction register in uniform
+//               superposition, then per step: a position-selected Grover coin on the direction
+//               (on the cells of a fixed pseudo-random third of the reachable box),
+//               direction-controlled add-a-constant on each position register, and a
+//               position-selected Ry on a fresh sample qubit. 2D: 8 compass directions; 3D: the 8
+//               diagonals (+-1, +-1, +-1). The start is the grid centre.
+//   paper_8x8   the paper's 8x8 scene (SPEC.md section 3: its coins, red-channel emission and
+//               reflectance), 3 steps of coin / shift / sample Le_i and rho_i, then the Path gate
+//               (steps register and one multi-controlled X per term): 17 qubits; with `history`,
+//               each step also copies the direction into its own 3-qubit register: 26 qubits;
+//               with `every_cell`, the walk starts from all 64 cells at once (a denser state).
+#include <benchmark/benchmark.h>
+
+#include <array>
+#include <cmath>
+#include <complex>
+#include <cstdint>
+#include <ctime>
+#include <qrm/qrm.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace {
+
+using qrm::control;
+using qrm::qubit_index;
+
+std::vector<qubit_index> range(std::size_t first, std::size_t count) {
+  std::vector<qubit_index> r(count);
+  for (std::size_t i = 0; i < count; ++i) r[i] = static_cast<qubit_index>(first + i);
+  return r;
+}
+
+// Controls "register `bits` holds value v".
+std::vector<control> equals(const std::vector<qubit_index>& bits, std::uint64_t v) {
+  std::vector<control> cs;
+  for (std::size_t i = 0; i < bits.size(); ++i) cs.push_back({bits[i], ((v >> i) & 1u) != 0});
+  return cs;
+}
+
+double ry_angle(double p) {
+  return 2.0 * std::asin(std::sqrt(p));
+}
+
+// Grover diffusion 2|s><s| - I on 3 qubits: real, orthogonal, every entry nonzero.
+qrm::dense_matrix grover_coin() {
+  qrm::dense_matrix m(8);
+  for (std::size_t r = 0; r < 8; ++r)
+    for (std::size_t c = 0; c < 8; ++c) m(r, c) = 2.0 / 8.0 - (r == c ? 1.0 : 0.0);
+  return m;
+}
+
+std::uint64_t mix(std::uint64_t x) {
+  x ^= x >> 33;
+  x *= 0xff51afd7ed558ccdull;
+  x ^= x >> 33;
+  return x;
+}
+
+struct open_walk_shape {
+  int dims, bits, steps;
+  std::size_t qubits() const { return static_cast<std::size_t>(dims * bits + 3 + steps); }
+};
+
+qrm::program open_walk(const open_walk_shape& w) {
+  const std::size_t d = static_cast<std::size_t>(w.dims), p = static_cast<std::size_t>(w.bits);
+  qrm::program prog(w.qubits());
+  std::vector<std::vector<qubit_index>> axis;
+  for (std::size_t a = 0; a < d; ++a) axis.push_back(range(a * p, p));
+  const auto position = range(0, d * p);
+  const auto dir = range(d * p, 3);
+  // Displacement of direction v along each axis.
+  auto displacement = [&](std::uint64_t v) {
+    std::array<int, 3> r{};
+    if (d == 2) {
+      static constexpr int dx[8] = {0, 1, 1, 1, 0, -1, -1, -1}, dy[8] = {-1, -1, 0, 1, 1, 1, 0, -1};
+      r = {dx[v], dy[v], 0};
+    } else {
+      for (std::size_t a = 0; a < 3; ++a) r[a] = ((v >> a) & 1u) ? 1 : -1;
+    }
+    return r;
+  };
+  const std::uint64_t centre = std::uint64_t{1} << (p - 1);
+  for (std::size_t a = 0; a < d; ++a) prog.apply_gate1(qrm::gate::x(), axis[a][p - 1], {});  // start at the centre
+  for (qubit_index q : dir) prog.apply_gate1(qrm::gate::h(), q, {});
+  // Cells within `radius` of the centre (as select values of the whole position register).
+  auto box = [&](int radius, auto&& visit) {
+    std::array<int, 3> off{};
+    const int hi = d == 3 ? radius : 0;
+    for (off[2] = -hi; off[2] <= hi; ++off[2])
+      for (off[1] = -radius; off[1] <= radius; ++off[1])
+        for (off[0] = -radius; off[0] <= radius; ++off[0]) {
+          std::uint64_t v = 0;
+          for (std::size_t a = 0; a < d; ++a)
+            v |= ((centre + static_cast<std::uint64_t>(off[a])) & ((std::uint64_t{1} << p) - 1)) << (a * p);
+          visit(v);
+        }
+  };
+  const std::vector<qrm::dense_matrix> coins = {grover_coin()};
+  for (int step = 0; step < w.steps; ++step) {
+    std::vector<qrm::mux_unitary_entry> coin_cells;
+    box(step, [&](std::uint64_t v) {
+      if (mix(v) % 3 == 0) coin_cells.push_back({v, 0});
+    });
+    prog.apply_mux_unitary(coins, coin_cells, dir, position, {});
+    for (std::uint64_t v = 0; v < 8; ++v) {
+      const auto disp = displacement(v);
+      for (std::size_t a = 0; a < d; ++a)
+        if (disp[a] != 0) prog.apply_add(disp[a], axis[a], equals(dir, v));
+    }
+    std::vector<qrm::mux1_entry> sample;
+    box(step + 1, [&](std::uint64_t v) {
+      sample.push_back({v, qrm::gate::ry(ry_angle(0.05 + 0.9 * static_cast<double>(mix(v) % 1000) / 1000.0))});
+    });
+    prog.apply_mux1(sample, static_cast<qubit_index>(d * p + 3 + static_cast<std::size_t>(step)), position, {});
+  }
+  return prog;
+}
+
+// The Lambertian coin of SPEC.md section 3 for normal n (entries 0, +-1/2).
+qrm::dense_matrix lambertian(int n) {
+  auto md = [](int v) { return ((v % 8) + 8) % 8; };
+  const int par[2] = {md(n + 2), md(n - 2)}, inc[3] = {md(n + 3), md(n + 4), md(n + 5)},
+            out[3] = {n, md(n - 1), md(n + 1)};
+  int m[8][8] = {};
+  for (int i : out) {
+    m[par[0]][i] = 1;
+    m[i][par[1]] = 1;
+    for (int j : inc) m[i][j] = 1;
+  }
+  for (int i : inc) {
+    m[i][par[0]] = 1;
+    m[par[1]][i] = 1;
+    for (int j : out) m[i][j] = 1;
+  }
+  for (int i : par) m[i][i] = 1;
+  static constexpr int neg[4][2] = {{2, 3}, {1, 3}, {1, 2}, {-1, -1}};
+  int seen_out = 0, seen_in = 0;
+  for (int r = 0; r < 8; ++r) {
+    const int k = m[r][0] == 0 ? seen_out++ : seen_in++;
+    int ordinal = 0;
+    for (int c = 0; c < 8; ++c) {
+      if (m[r][c] == 0) continue;
+      if (ordinal == neg[k][0] || ordinal == neg[k][1]) m[r][c] = -m[r][c];
+      ++ordinal;
+    }
+  }
+  qrm::dense_matrix u(8);
+  for (std::size_t r = 0; r < 8; ++r)
+    for (std::size_t c = 0; c < 8; ++c) u(r, c) = 0.5 * m[r][c];
+  if (qrm::unitarity_error(u) > 1e-12) throw std::logic_error("lambertian coin is not orthogonal");
+  return u;
+}
+
+qrm::program paper_8x8(bool history, bool every_cell) {
+  // Cells as "kind normal": L = Lambertian, B = boundary, . = air.
+  static const char* coins[8] = {"B3 L4 L4 L4 L4 L4 L4 B5", "L2 .  .  .  .  .  .  L6", "L2 .  .  .  .  .  .  L6",
+                                 "L2 .  L7 L0 L1 .  .  L6", "L2 .  L6 B0 L2 .  .  L6", "L2 .  L5 L4 L3 .  .  L6",
+                                 "L2 .  .  .  .  .  .  L6", "B1 L0 L0 L0 L0 L0 L0 B7"};
+  static const char* emitted[8] = {"kkkwwkkk", "wkkkkkkk", "wkkkkkkk", "wkkkkkkw",
+                                   "wkkkwkkw", "wkkkkkkk", "wkkkkkkk", "kkkwwkkk"};
+  // Red channel of the diffuse colours: W = A = 1, R = 0.5, G = Bl = 0, Gy = 0.75.
+  static const double rho[8][8] = {{.75, 0, 0, 1, 1, 0, 0, .75}, {1, 1, 1, 1, 1, 1, 1, .5},
+                                   {1, 1, 1, 1, 1, 1, 1, .5},    {1, 1, 0, .5, 0, 1, 1, 1},
+                                   {1, 1, .5, 0, 1, 1, 1, 1},    {1, 1, 0, .5, 0, 1, 1, .5},
+                                   {1, 1, 1, 1, 1, 1, 1, .75},   {.75, .75, .75, 1, 1, .75, .75, .75}};
+  const int steps = 3;
+  const auto x = range(0, 3), y = range(3, 3), dir = range(6, 3), le = range(9, 3), rh = range(12, 2),
+             stp = range(14, 2);
+  const qubit_index out = 16;
+  const auto position = range(0, 6);
+  qrm::program prog(history ? 26 : 17);
+  std::vector<qrm::dense_matrix> ms;
+  std::vector<qrm::mux_unitary_entry> coin_cells;
+  for (int i = 0; i < 8; ++i) {
+    qrm::dense_matrix flip(8);  // boundary: d -> d XOR 4
+    for (std::size_t dd = 0; dd < 8; ++dd) flip(dd ^ 4, dd) = 1.0;
+    ms.push_back(lambertian(i));
+    if (i == 0) ms.push_back(flip);
+  }
+  // ms: 0 -> L0, 1 -> boundary, 2..8 -> L1..L7
+  for (std::uint64_t row = 0; row < 8; ++row)
+    for (std::uint64_t col = 0; col < 8; ++col) {
+      const char* cell = coins[row] + 3 * col;
+      if (cell[0] == '.') continue;
+      const int normal = cell[1] - '0';
+      const std::uint32_t id = cell[0] == 'B' ? 1u : (normal == 0 ? 0u : static_cast<std::uint32_t>(normal + 1));
+      coin_cells.push_back({col | (row << 3), id});
+    }
+  std::vector<qrm::mux1_entry> le_cells, rho_cells;
+  for (std::uint64_t row = 0; row < 8; ++row)
+    for (std::uint64_t col = 0; col < 8; ++col) {
+      if (emitted[row][col] == 'w') le_cells.push_back({col | (row << 3), qrm::gate::ry(ry_angle(1.0))});
+      if (rho[row][col] > 0) rho_cells.push_back({col | (row << 3), qrm::gate::ry(ry_angle(rho[row][col]))});
+    }
+  // Start in the air cell (1, 1): x = 1, y = 1, directions uniform; or (stress case) from every
+  // cell at once, a state ~64 times denser.
+  if (every_cell) {
+    for (qubit_index q : position) prog.apply_gate1(qrm::gate::h(), q, {});
+  } else {
+    prog.apply_gate1(qrm::gate::x(), x[0], {});
+    prog.apply_gate1(qrm::gate::x(), y[0], {});
+  }
+  for (qubit_index q : dir) prog.apply_gate1(qrm::gate::h(), q, {});
+  static constexpr int dx[8] = {0, 1, 1, 1, 0, -1, -1, -1}, dy[8] = {-1, -1, 0, 1, 1, 1, 0, -1};
+  for (int s = 0; s < steps; ++s) {
+    prog.apply_mux_unitary(ms, coin_cells, dir, position, {});
+    if (history)
+      for (std::size_t b = 0; b < 3; ++b) {
+        const control c{dir[b], true};
+        prog.apply_gate1(qrm::gate::x(), static_cast<qubit_index>(17 + 3 * s + static_cast<int>(b)),
+                         std::span<const control>(&c, 1));
+      }
+    for (std::uint64_t v = 0; v < 8; ++v) {
+      if (dx[v] != 0) prog.apply_add(dx[v], x, equals(dir, v));
+      if (dy[v] != 0) prog.apply_add(dy[v], y, equals(dir, v));
+    }
+    prog.apply_mux1(le_cells, le[static_cast<std::size_t>(s)], position, {});
+    if (s + 1 < steps) prog.apply_mux1(rho_cells, rh[static_cast<std::size_t>(s)], position, {});
+  }
+  // Path gate: steps register in (|0> + |1> + |2>) / sqrt 3 (a Householder reflection), then
+  // term i flips out when steps == i, Le_i = 1 and rho_k = 1 for k < i.
+  qrm::dense_matrix prep(4);
+  {
+    const double a = 1.0 / std::sqrt(3.0);
+    const double v[4] = {a - 1.0, a, a, 0.0};
+    const double vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    for (std::size_t r = 0; r < 4; ++r)
+      for (std::size_t c = 0; c < 4; ++c) prep(r, c) = (r == c ? 1.0 : 0.0) - 2.0 * v[r] * v[c] / vv;
+  }
+  prog.apply_unitary(prep, stp, {});
+  for (std::uint64_t i = 0; i < 3; ++i) {
+    auto cs = equals(stp, i);
+    cs.push_back({le[i], true});
+    for (std::uint64_t k = 0; k < i; ++k) cs.push_back({rh[k], true});
+    prog.apply_gate1(qrm::gate::x(), out, cs);
+  }
+  return prog;
+}
+
+template <class B>
+std::size_t peak_bytes(const B& b) {
+  if constexpr (requires { b.peak_memory_bytes(); })
+    return b.peak_memory_bytes();
+  else
+    return b.size() * sizeof(typename B::scalar_type);
+}
+template <class B>
+std::size_t stored(const B& b) {
+  if constexpr (requires { b.nonzeros(); }) {
+    return b.nonzeros();
+  } else {
+    std::size_t k = 0;
+    for (const auto& a : b.amplitudes()) k += a != typename B::scalar_type{} ? 1 : 0;
+    return k;
+  }
+}
+
+template <class B>
+B make(std::size_t n) {
+  if constexpr (requires { B(n, qrm::dense_options{}); }) {
+    qrm::dense_options o;
+    o.threads = 1;  // the compact backend is single-threaded: compare like with like
+    return B(n, o);
+  } else {
+    return B(n);
+  }
+}
+
+template <class B>
+void run_program(benchmark::State& st, const qrm::program& prog) {
+  const std::size_t n = prog.width();
+  double probability_out = 0;
+  std::size_t nonzeros = 0, peak = 0;
+  for (auto _ : st) {
+    B b = make<B>(n);
+    qrm::run(b, prog);
+    benchmark::DoNotOptimize(b);
+    st.PauseTiming();
+    nonzeros = stored(b);
+    peak = peak_bytes(b);
+    probability_out = b.probability(std::vector<control>{{static_cast<qubit_index>(n - 1), true}});
+    st.ResumeTiming();
+  }
+  const double dense_bytes = std::ldexp(static_cast<double>(sizeof(typename B::scalar_type)), static_cast<int>(n));
+  st.counters["qubits"] = static_cast<double>(n);
+  st.counters["ops"] = static_cast<double>(prog.size());
+  st.counters["nonzeros"] = static_cast<double>(nonzeros);
+  st.counters["peak_MiB"] = static_cast<double>(peak) / (1024.0 * 1024.0);
+  st.counters["dense_MiB"] = dense_bytes / (1024.0 * 1024.0);
+  st.counters["mem_fraction"] = static_cast<double>(peak) / dense_bytes;
+  st.counters["p_top"] = probability_out;  // the same number on both backends (a sanity check)
+}
+
+template <class B>
+void BM_open_walk(benchmark::State& st) {
+  const open_walk_shape w{static_cast<int>(st.range(0)), static_cast<int>(st.range(1)), static_cast<int>(st.range(2))};
+  run_program<B>(st, open_walk(w));
+}
+
+template <class B>
+void BM_paper_8x8(benchmark::State& st) {
+  run_program<B>(st, paper_8x8(st.range(0) != 0, st.range(1) != 0));
+}
+
+// One op on a state with every amplitude nonzero (n = 20, real): the compact backend's worst
+// case. The ratio of the two times is the fill (nonzeros / 2^n) below which compact is faster.
+// Qubits as in a walk: position 0-5 (x 0-2, y 3-5), direction 6-8, samples above.
+enum op_kind : int { ry_occupied, mux_ry_position, add_controlled, coin_position, diagonal_controlled };
+template <class B>
+void BM_full_state_op(benchmark::State& st) {
+  const std::size_t n = 20;
+  B b = make<B>(n);
+  for (qubit_index q = 0; q < n; ++q) b.apply_gate1(qrm::gate::ry(0.3 + 0.1 * q), q, {});  // generic, all nonzero
+  const auto position = range(0, 6), dir = range(6, 3), x = range(0, 3);
+  std::vector<qrm::mux1_entry> ry_cells;
+  for (std::uint64_t v = 0; v < 64; ++v) ry_cells.push_back({v, qrm::gate::ry(0.01 * static_cast<double>(v + 1))});
+  const std::vector<qrm::dense_matrix> coin = {grover_coin()};
+  std::vector<qrm::mux_unitary_entry> coin_cells;
+  for (std::uint64_t v = 0; v < 64; ++v) coin_cells.push_back({v, 0});
+  const auto dir_is_3 = equals(dir, 3);
+  const std::vector<control> two = {{18, true}, {19, false}};
+  const auto kind = static_cast<op_kind>(st.range(0));
+  const std::clock_t start = std::clock();
+  for (auto _ : st) {
+    switch (kind) {
+      case ry_occupied:
+        b.apply_gate1(qrm::gate::ry(0.2), 12, {});
+        break;
+      case mux_ry_position:
+        b.apply_mux1(ry_cells, 12, position, {});
+        break;
+      case add_controlled:
+        b.apply_add(1, x, dir_is_3);
+        break;
+      case coin_position:
+        b.apply_mux_unitary(coin, coin_cells, dir, position, {});
+        break;
+      case diagonal_controlled:
+        b.apply_gate1(qrm::gate::z(), 10, two);
+        break;
+    }
+  }
+  static const char* names[] = {"ry on qubit 12", "mux ry, select = position", "add 1 to x, when dir = 3",
+                                "8x8 coin, select = position", "z on 10, 2 controls"};
+  st.SetLabel(names[kind]);
+  st.counters["nonzeros"] = static_cast<double>(stored(b));
+  // CPU time of this (single-threaded) process: the machine may be shared.
+  const double seconds = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+  st.counters["cpu_ns_per_amp"] =
+      seconds * 1e9 / (static_cast<double>(st.iterations()) * static_cast<double>(std::size_t{1} << n));
+}
+
+using dense_d = qrm::state_vector<double>;
+using compact_d = qrm::compact_state<double>;
+using dense_c = qrm::state_vector<std::complex<double>>;
+using compact_c = qrm::compact_state<std::complex<double>>;
+
+}  // namespace
+
+// 2D open walks small enough for the dense vector: 20, 23 and 26 qubits.
+BENCHMARK(BM_open_walk<dense_d>)
+    ->ArgNames({"dims", "bits", "steps"})
+    ->Args({2, 7, 3})
+    ->Args({2, 8, 4})
+    ->Args({2, 9, 5})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_open_walk<compact_d>)
+    ->ArgNames({"dims", "bits", "steps"})
+    ->Args({2, 7, 3})
+    ->Args({2, 8, 4})
+    ->Args({2, 9, 5})
+    ->Unit(benchmark::kMillisecond);
+// 3D, 1024^3 cells: 30 position qubits + 3 direction + one sample per step: 39 and 42 qubits
+// (dense: 4 and 32 TiB of doubles); 9 steps reach 1.7 million nonzeros (under 2^22).
+BENCHMARK(BM_open_walk<compact_d>)
+    ->ArgNames({"dims", "bits", "steps"})
+    ->Args({3, 10, 6})
+    ->Args({3, 10, 9})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_open_walk<compact_c>)
+    ->ArgNames({"dims", "bits", "steps"})
+    ->Args({3, 10, 6})
+    ->Unit(benchmark::kMillisecond);
+// The paper's 8x8 scene: 17 qubits, 26 with direction history.
+BENCHMARK(BM_paper_8x8<dense_d>)
+    ->ArgNames({"history", "every_cell"})
+    ->ArgsProduct({{0, 1}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_paper_8x8<compact_d>)
+    ->ArgNames({"history", "every_cell"})
+    ->ArgsProduct({{0, 1}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_paper_8x8<dense_c>)
+    ->ArgNames({"history", "every_cell"})
+    ->ArgsProduct({{0}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_paper_8x8<compact_c>)
+    ->ArgNames({"history", "every_cell"})
+    ->ArgsProduct({{0}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
+
+// Single ops on a full 20-qubit state.
+BENCHMARK(BM_full_state_op<dense_d>)->ArgName("op")->DenseRange(0, 4)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_full_state_op<compact_d>)->ArgName("op")->DenseRange(0, 4)->Unit(benchmark::kMicrosecond);
+
+BENCHMARK_MAIN();
