@@ -20,6 +20,7 @@
 namespace qrm {
 
 // path_sum(model, start, steps, channel): E[f], exactly.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline double path_sum(const walk_model& m, const walk_start& start, unsigned steps, int channel) {
   std::map<walk_state, double> weight;  // probability times prod of rho sampled so far
   for (const auto& [w, a] : m.initial_states(start)) weight[w] += std::norm(a);
@@ -41,6 +42,7 @@ inline double path_sum(const walk_model& m, const walk_start& start, unsigned st
 }
 
 // path_sum_enumerated(...): the same sum, one path at a time (D * branching^s paths).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline double path_sum_enumerated(const walk_model& m, const walk_start& start, unsigned steps, int channel) {
   double total = 0;
   auto walk = [&](auto&& self, const walk_state& w, unsigned i, double prob, double prefix, double f) -> void {
@@ -66,6 +68,7 @@ struct monte_carlo_estimate {
 
 // monte_carlo(model, start, steps, channel, paths, g): the random walk with the same
 // transition probabilities; mean of f over `paths` samples and its standard error.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline monte_carlo_estimate monte_carlo(const walk_model& m, const walk_start& start, unsigned steps, int channel,
                                         std::uint64_t paths, rng& g) {
   if (paths == 0) throw std::invalid_argument("monte_carlo: paths must be positive");

@@ -410,7 +410,7 @@ class lowerer {
 
   void lower(const op::any& o, std::size_t index) {
     index_ = index;
-    std::visit([&](const auto& x) { lower_op(x); }, o);
+    visit_op(o, [&](const auto& x) { lower_op(x); });
   }
 
   decomposition_result finish(const std::vector<register_info>& registers) const {

@@ -37,6 +37,7 @@ struct lightmap_options {
 // vector; other backends plug in with their own function of this shape.
 using probability_runner = std::function<double(const walk_program&)>;
 
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline double dense_probability(const walk_program& w) {
   dense_options o;
   o.threads = 1;  // cells are already run in parallel
@@ -50,8 +51,9 @@ inline double dense_probability(const walk_program& w) {
 
 // exact_lightmap(model, options, run): every cell (x, y[, z]) and channel, in the order
 // y, x, channel (z outermost in 3D). Identical channels (grey scenes) are computed once.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::vector<lightmap_cell> exact_lightmap(const walk_model& m, const lightmap_options& opt,
-                                                 const probability_runner& run = dense_probability) {
+                                                 const probability_runner& run = dense_probability<>) {
   const scene& sc = m.scene_data();
   int source[3] = {0, 1, 2};  // channel c copies channel source[c]
   for (int c = 1; c < 3; ++c)

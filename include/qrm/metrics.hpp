@@ -49,8 +49,7 @@ inline circuit_metrics measure(const program& p) {
     const std::vector<qubit_index> qs = op_qubits(o);
     std::size_t layers = 1, controls = 0;
     std::string kind;
-    std::visit(
-        [&](const auto& x) {
+    visit_op(o, [&](const auto& x) {
           using T = std::decay_t<decltype(x)>;
           controls = x.controls.size();
           if constexpr (std::is_same_v<T, op::gate1_op>) {
@@ -70,8 +69,7 @@ inline circuit_metrics measure(const program& p) {
             layers = x.entries.size();
             controls += x.select.size();
           }
-        },
-        o);
+        });
     if (layers == 0) continue;
     ++m.ops;
     m.gate_count += layers;

@@ -255,8 +255,7 @@ inline std::string to_qasm_logical(const program& p, const qasm_options& o) {
   std::string body;
   qasm_writer w(body, "", [](qubit_index q) { return "q[" + std::to_string(q) + "]"; });
   for (std::size_t i = 0; i < p.ops().size(); ++i) {
-    std::visit(
-        [&](const auto& x) {
+    visit_op(p.ops()[i], [&](const auto& x) {
           using T = std::decay_t<decltype(x)>;
           if constexpr (std::is_same_v<T, op::gate1_op>) {
             qasm_check_gate(x.gate, i);
@@ -306,8 +305,7 @@ inline std::string to_qasm_logical(const program& p, const qasm_options& o) {
               }
             }
           }
-        },
-        p.ops()[i]);
+        });
   }
   w.flush_global_phase();
   return qasm_header(p, o, "logical form: one line per gate, multiplexed gates one line per entry") + defs.text + body;

@@ -1,28 +1,36 @@
-// qrm/qrm.hpp: the whole library. One header per facility:
-//   registers.hpp        typed registers (position, direction, emission, reflectance, steps, out, ...)
-//   layout.hpp           layouts, qubit selectors (bit, slice, qubits), controls (when, on, off)
-//   gates.hpp            gate templates: x y z h ry rz phase u, unitary, add, mux_ry, mux_unitary,
-//                        prepare_uniform
-//   circuit.hpp          seq, repeat, unroll, circuit<L, ...>, compile-time metrics, run()
-//   ops.hpp              the primitive instruction set every backend implements (gate_sink)
+// qrm/qrm.hpp: the whole library, one header per facility.
+//
+// Circuits
+//   registers.hpp        typed registers: position, direction, emission (Le), reflectance (rho), steps, out, ...
+//   layout.hpp           layouts (compile-time qubit offsets), selectors bit/slice/qubits, controls when/on/off
+//   gates.hpp            gate templates: x y z h ry rz phase u, unitary/real_unitary, add/increment,
+//                        mux_ry, mux_unitary (multiplexed), prepare_uniform
+//   circuit.hpp          seq, repeat, unroll, circuit<L, ...> with constexpr width / depth bound, run()
+//   ops.hpp              the five primitive operations every backend implements (gate_sink)
 //   program.hpp          run-time programs: record, replay, invert
-//   metrics.hpp          width, logical depth and gate counts of a program
+//   metrics.hpp          width, logical depth, gate counts of a program
 //   decompose.hpp        lowering to single-qubit gates + CNOTs (with ancillas), decomposed counts
 //   qasm.hpp             OpenQASM 3 export (logical or decomposed) and import
-//   backends/dense.hpp   state_vector<S>: the dense backend
-//   backends/compact.hpp compact_state<S, L>: only the nonzero amplitudes (labels: uint64_t or wide_label<W>)
+// Backends
+//   backends/dense.hpp   state_vector<S>: all 2^n amplitudes (S = complex or real, double or float)
+//   backends/compact.hpp compact_state<S, L>: only the nonzero amplitudes (labels uint64_t or wide_label<W>)
 //   measure.hpp          probabilities, distributions and samples through a layout
-//   random.hpp           seeded generator, binomial sampling
-//   io/image.hpp         linear-RGB float images: tone mapping to sRGB, upsampling, error maps, stats
-//   io/png.hpp           PNG writer (8-bit RGB/grey, stored deflate), crc32, adler32
-//   io/pfm.hpp           PFM float images: exact write and read
-//   io/svg_plot.hpp      SVG line/scatter plots (log axes, fitted slopes), least-squares fits
-//   io/csv.hpp           results tables as CSV (round-trip numbers) and Markdown
-//   io/atomic_file.hpp   whole-file writes via temp file + rename, creating directories
-//   io/progress.hpp      thread-safe progress bar on stderr
+//   random.hpp           seeded, platform-independent generator; binomial sampling
+// Quantum ray marching (the paper)
+//   scene.hpp            voxel scenes (2D grids, 3D voxels): kind, normal, reflectance, emission
+//   scene_io.hpp         the scene text format: parse_scene, load_scene, format_scene
+//   paper_scenes.hpp     paper_4x4, paper_8x8 (SPEC.md section 3), box_2d(N) for scaling
+//   directions.hpp       king_2d (8 directions), golden_spiral, antipodal_spiral, cube_directions
+//   coins.hpp            Lambertian (2D paper matrix, 3D Hadamard/Fourier), boundary, specular coins
+//   walk_model.hpp       the walk as classical data: coins per voxel, fixed-point shift, starts
+//   walk.hpp             the A operator: ray_marching_circuit<...> (typed), make_walk_program (run-time),
+//                        pruning levels, history variant
+//   classical.hpp        exact branching path sum, Monte Carlo random walk
+//   lightmap.hpp         exact light maps: faithful, history and classical per cell and channel
+// Amplitude estimation
 //   estimation/problem.hpp      estimation_problem (A program + good controls), bernoulli, sine_integral
 //   estimation/grover.hpp       Grover operator Q = A S0 A^dagger S_chi, reflections, rescaling, qcoin coin
-//   estimation/oracle.hpp       oracles an estimator asks for p_k: analytic_oracle, simulated_oracle<B>
+//   estimation/oracle.hpp       what an estimator asks for p_k: analytic_oracle, simulated_oracle<B>
 //   estimation/result.hpp       estimation_result (estimate, interval, calls, rounds), to_radiance
 //   estimation/fae.hpp          Faster Amplitude Estimation (Nakaji), exactly as SPEC.md section 5
 //   estimation/iqae.hpp         Iterative Amplitude Estimation (Grinko et al.), Clopper-Pearson / Chernoff
@@ -30,9 +38,18 @@
 //   estimation/canonical.hpp    canonical QPE-based amplitude estimation (Brassard et al.) + MLE
 //   estimation/qcoin.hpp        quantum coin method (Shimada and Hachisuka 2020)
 //   estimation/monte_carlo.hpp  classical Monte Carlo baseline on the same oracle
+// Output
+//   io/image.hpp         linear-RGB float images: tone mapping to sRGB, upsampling, error maps, stats
+//   io/png.hpp           PNG writer (8-bit RGB/grey, stored deflate), crc32, adler32
+//   io/pfm.hpp           PFM float images: exact write and read
+//   io/svg_plot.hpp      SVG line/scatter plots (log axes, fitted slopes), least-squares fits
+//   io/csv.hpp           results tables as CSV (round-trip numbers) and Markdown
+//   io/atomic_file.hpp   whole-file writes via temp file + rename, creating directories
+//   io/progress.hpp      thread-safe progress bar on stderr
 #pragma once
 
 #include "version.hpp"
+
 #include "registers.hpp"
 #include "layout.hpp"
 #include "ops.hpp"
@@ -42,16 +59,22 @@
 #include "metrics.hpp"
 #include "decompose.hpp"
 #include "qasm.hpp"
-#include "random.hpp"
-#include "measure.hpp"
+
 #include "backends/dense.hpp"
-#include "io/image.hpp"
-#include "io/png.hpp"
-#include "io/pfm.hpp"
-#include "io/svg_plot.hpp"
-#include "io/csv.hpp"
-#include "io/atomic_file.hpp"
-#include "io/progress.hpp"
+#include "backends/compact.hpp"
+#include "measure.hpp"
+#include "random.hpp"
+
+#include "scene.hpp"
+#include "scene_io.hpp"
+#include "paper_scenes.hpp"
+#include "directions.hpp"
+#include "coins.hpp"
+#include "walk_model.hpp"
+#include "walk.hpp"
+#include "classical.hpp"
+#include "lightmap.hpp"
+
 #include "estimation/problem.hpp"
 #include "estimation/grover.hpp"
 #include "estimation/oracle.hpp"
@@ -62,4 +85,11 @@
 #include "estimation/canonical.hpp"
 #include "estimation/qcoin.hpp"
 #include "estimation/monte_carlo.hpp"
-#include "backends/compact.hpp"
+
+#include "io/image.hpp"
+#include "io/png.hpp"
+#include "io/pfm.hpp"
+#include "io/svg_plot.hpp"
+#include "io/csv.hpp"
+#include "io/atomic_file.hpp"
+#include "io/progress.hpp"

@@ -128,6 +128,7 @@ inline gate1 sample_rotation(double v) {
 }  // namespace detail
 
 // build_walk_tables(model, start, options): coins, samples and path terms for one start point.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline walk_tables build_walk_tables(const walk_model& m, const walk_start& start, const walk_options& o) {
   if (o.channel < 0 || o.channel > 2) throw std::invalid_argument("walk: channel must be 0, 1 or 2");
   if (o.steps < 1 || o.steps > 64) throw std::invalid_argument("walk: steps must be in [1, 64], got " + std::to_string(o.steps));
@@ -349,6 +350,7 @@ class ray_marching_circuit {
 
 // remove_idle_qubits(p): p without the qubits no op touches, renumbered in order; `kept[i]` is
 // the original index of new qubit i.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline program remove_idle_qubits(const program& p, std::vector<qubit_index>* kept = nullptr) {
   std::vector<bool> used(p.width(), false);
   for (const op::any& o : p.ops())
@@ -376,8 +378,7 @@ inline program remove_idle_qubits(const program& p, std::vector<qubit_index>* ke
     for (auto& q : v) q = map[q];
   };
   for (op::any o : p.ops()) {
-    std::visit(
-        [&](auto& x) {
+    visit_op(o, [&](auto& x) {
           using T = std::decay_t<decltype(x)>;
           for (control& c : x.controls) c.qubit = map[c.qubit];
           if constexpr (std::is_same_v<T, op::gate1_op>) {
@@ -393,8 +394,7 @@ inline program remove_idle_qubits(const program& p, std::vector<qubit_index>* ke
             remap(x.targets);
             remap(x.select);
           }
-        },
-        o);
+        });
     r.push(std::move(o));
   }
   if (kept) *kept = orig;
@@ -411,6 +411,7 @@ struct walk_program {
 };
 
 // make_walk_program(model, start, options): the A operator for run-time sizes (any scene).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline walk_program make_walk_program(const walk_model& m, const walk_start& start, const walk_options& o) {
   walk_program w;
   w.tables = build_walk_tables(m, start, o);
