@@ -20,11 +20,13 @@ int cmd_lightmap(args& a) {
   o.steps = static_cast<unsigned>(a.integer("steps", 3, 1, 12));
   o.prune = pruning_from_arg(a.str("prune", "reachable"));
   o.threads = static_cast<unsigned>(a.integer("threads", 0, 0, 256));
-  const std::string backend = a.str("backend", "dense");
+  const std::string backend = a.str("backend", "compact");
   const std::string format = a.str("format", "csv");
   if (format != "csv" && format != "json") throw usage_error("--format must be csv or json, got '" + format + "'");
-  qrm::probability_runner run = qrm::dense_probability;
-  if (backend != "dense") throw usage_error("--backend must be dense, got '" + backend + "'");
+  qrm::probability_runner run;
+  if (backend == "dense") run = qrm::dense_probability<>;
+  else if (backend == "compact") run = qrm::compact_probability<>;
+  else throw usage_error("--backend must be dense or compact, got '" + backend + "'");
   const qrm::walk_model model(sc, qrm::king_2d());
   const auto cells = qrm::exact_lightmap(model, o, run);
   if (format == "csv") {
