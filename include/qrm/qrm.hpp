@@ -9,6 +9,12 @@
 //   backends/dense.hpp   state_vector<S>: the dense backend
 //   measure.hpp          probabilities, distributions and samples through a layout
 //   random.hpp           seeded generator, binomial sampling
+//   render/image.hpp     minimal RGB float image, tiles and their bit-exact merge, RMSE
+//   render/camera.hpp    pinhole camera: rays through pixel centres or jittered within pixels
+//   render/dda.hpp       first voxel hit by a ray (Amanatides-Woo 3D DDA through the grid)
+//   render/voxelize.hpp  surface voxelization (rectangles, boxes, spheres); cornell_box, two_spheres
+//   render/render_classical.hpp  images on the walk's discretization: exact path sum, Monte Carlo,
+//                        the paper's emulator (enumerate all paths, sample K); threads and tiles
 #pragma once
 
 #include "version.hpp"
@@ -21,3 +27,8 @@
 #include "random.hpp"
 #include "measure.hpp"
 #include "backends/dense.hpp"
+#include "render/image.hpp"
+#include "render/camera.hpp"
+#include "render/dda.hpp"
+#include "render/voxelize.hpp"
+#include "render/render_classical.hpp"
