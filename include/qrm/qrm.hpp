@@ -38,6 +38,13 @@
 //   estimation/canonical.hpp    canonical QPE-based amplitude estimation (Brassard et al.) + MLE
 //   estimation/qcoin.hpp        quantum coin method (Shimada and Hachisuka 2020)
 //   estimation/monte_carlo.hpp  classical Monte Carlo baseline on the same oracle
+// Rendering (3D)
+//   render/voxelize.hpp  surface voxelization (rectangles, boxes, spheres): cornell_box, two_spheres
+//   render/camera.hpp    pinhole camera: rays through pixel centres or jittered within pixels
+//   render/dda.hpp       first voxel hit by a ray (Amanatides-Woo 3D DDA through the grid)
+//   render/image.hpp     RGB float image tiles and their bit-exact merge, RMSE
+//   render/render_classical.hpp  images on the walk's discretization: exact path sum, Monte Carlo,
+//                        the paper's emulator (enumerate all paths, sample K); threads and tiles
 // Output
 //   io/image.hpp         linear-RGB float images: tone mapping to sRGB, upsampling, error maps, stats
 //   io/png.hpp           PNG writer (8-bit RGB/grey, stored deflate), crc32, adler32
@@ -74,6 +81,12 @@
 #include "walk.hpp"
 #include "classical.hpp"
 #include "lightmap.hpp"
+
+#include "render/voxelize.hpp"
+#include "render/camera.hpp"
+#include "render/dda.hpp"
+#include "render/image.hpp"
+#include "render/render_classical.hpp"
 
 #include "estimation/problem.hpp"
 #include "estimation/grover.hpp"
