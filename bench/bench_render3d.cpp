@@ -41,14 +41,14 @@ void count_starts(benchmark::State& state, const setup& s) {
 
 void BM_exact(benchmark::State& state) {
   const setup s = make_setup(state);
-  for (auto _ : state) benchmark::DoNotOptimize(qrm::render::render_exact(s.model, s.cam, s.opt).rgb.data());
+  for (auto _ : state) benchmark::DoNotOptimize(qrm::render::render_exact(s.model, s.cam, s.opt).pixels().data());
   count_starts(state, s);
 }
 
 void BM_monte_carlo_32(benchmark::State& state) {
   const setup s = make_setup(state);
   for (auto _ : state)
-    benchmark::DoNotOptimize(qrm::render::render_monte_carlo(s.model, s.cam, 32, 1, s.opt).mean.rgb.data());
+    benchmark::DoNotOptimize(qrm::render::render_monte_carlo(s.model, s.cam, 32, 1, s.opt).mean.pixels().data());
   count_starts(state, s);
 }
 
@@ -57,7 +57,7 @@ void BM_emulated_32(benchmark::State& state) {
   qrm::render::emulation_options e;
   e.paths_per_pixel = 32;
   for (auto _ : state)
-    benchmark::DoNotOptimize(qrm::render::render_emulated(s.model, s.cam, e, s.opt).sampled.rgb.data());
+    benchmark::DoNotOptimize(qrm::render::render_emulated(s.model, s.cam, e, s.opt).sampled.pixels().data());
   count_starts(state, s);
 }
 

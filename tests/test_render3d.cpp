@@ -34,8 +34,8 @@ bool near_vec(const vec3& a, const vec3& b, double tol) {
   return qrm::norm(sub(a, b)) <= tol;
 }
 bool same_bits(const r::image& a, const r::image& b) {
-  return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
-         std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+  return a.width() == b.width() && a.height() == b.height() &&
+         std::memcmp(a.pixels().data(), b.pixels().data(), a.pixels().size() * sizeof(qrm::io::rgb)) == 0;
 }
 
 // Cornell millimetres to voxel coordinates, as documented for cornell_box(N) / two_spheres(N):
@@ -493,7 +493,7 @@ TEST_CASE("exact image equals a naive per-pixel path enumeration") {
       const bool emitter = m.scene_data()[r::first_hit(m.scene_data(), ray.origin, ray.direction).index].emission.r > 0;
       for (int c = 0; c < 3; ++c)
         // float storage: relative 2^-24; the two sums differ in order only (~1e-15).
-        CHECK(std::abs(img.at(x, y, c) - want[c]) <= 1e-6 * std::max(1.0, want[c]));
+        CHECK(std::abs(img.at(x, y).channel(c) - want[c]) <= 1e-6 * std::max(1.0, want[c]));
       emitters += emitter ? 1 : 0;
       if (!emitter && want[0] > 0) ++lit_by_bounce;
     }
@@ -501,7 +501,7 @@ TEST_CASE("exact image equals a naive per-pixel path enumeration") {
   CHECK(emitters > 0);
   CHECK(lit_by_bounce > 5);
   // The forward pass is qrm::path_sum, bit for bit, per channel.
-  const qrm::detail::walk_tables tables(m);
+  const qrm::detail::transition_table tables(m);
   const auto starts = r::pixel_starts(m, cam);
   for (std::size_t k = 0; k < starts.size(); ++k)
     for (unsigned steps : {3u, 6u}) {
@@ -530,7 +530,7 @@ TEST_CASE("Monte Carlo image converges to the exact image at the rate its varian
   r::image ex(w, w);
   for (unsigned p = 0; p < pixels; ++p) {
     exact[p] = reference_pixel(m, cam, p % w, p / w, 3, &mom[p], rho[p].data());
-    for (int c = 0; c < 3; ++c) ex.at(p % w, p / w, c) = static_cast<float>(exact[p][c]);
+    for (int c = 0; c < 3; ++c) ex.at(p % w, p / w).channel(c) = static_cast<float>(exact[p][c]);
   }
   double rmse_prev = std::numeric_limits<double>::infinity();
   std::array<double, 3> pred_prev{}, sd_prev{}, obs_prev{};
@@ -541,18 +541,18 @@ TEST_CASE("Monte Carlo image converges to the exact image at the rate its varian
     double mse_images = 0;
     for (unsigned rep = 0; rep < replicas; ++rep) {
       const auto mc = r::render_monte_carlo(m, cam, paths, 1000 + 131 * paths + rep, o);
-      const double e = r::rmse(mc.mean, ex);
+      const double e = qrm::io::rmse(mc.mean, ex);
       mse_images += e * e / replicas;
       for (unsigned p = 0; p < pixels; ++p)
         for (int c = 0; c < 3; ++c) {
-          const double err = mc.mean.at(p % w, p / w, c) - exact[p][c];
+          const double err = mc.mean.at(p % w, p / w).channel(c) - exact[p][c];
           const double r2 = rho[p][c] * rho[p][c], s2 = mom[p].var[c];
           obs[c] += err * err;
           pred[c] += r2 * s2 / nn;
           var[c] += r2 * r2 * (2 * s2 * s2 / (nn * nn) + (mom[p].m4[c] - 3 * s2 * s2) / (nn * nn * nn));
           // The reported standard error: SE^2 = s^2 / N, s^2 the unbiased sample variance:
           // E[s^2] = sigma^2, Var[s^2] = mu4 / N - sigma^4 (N - 3) / (N (N - 1)).
-          const double se = mc.standard_error.at(p % w, p / w, c);
+          const double se = mc.standard_error.at(p % w, p / w).channel(c);
           se2_obs[c] += se * se;
           se2_pred[c] += r2 * s2 / nn;
           se2_var[c] += r2 * r2 * (mom[p].m4[c] / nn - s2 * s2 * (nn - 3) / (nn * (nn - 1))) / (nn * nn);
@@ -580,7 +580,7 @@ TEST_CASE("Monte Carlo image converges to the exact image at the rate its varian
     rmse_prev = rmse;
   }
   // The RGB walk is qrm::monte_carlo, bit for bit, per channel.
-  const qrm::detail::walk_tables tables(m);
+  const qrm::detail::transition_table tables(m);
   for (const auto& p : r::pixel_starts(m, cam)) {
     qrm::rng g0 = qrm::rng::stream(3, p.voxel);
     const auto rgb = r::monte_carlo_rgb_walk(tables, p.start, 3, 50, g0);
@@ -666,8 +666,11 @@ TEST_CASE("emulated image: exact part equals the exact image; the estimator hook
   e.seed = 11;
   const auto em = r::render_emulated(m, cam, e, o);
   const r::image ex = r::render_exact(m, cam, o);
-  for (std::size_t i = 0; i < ex.rgb.size(); ++i)
-    CHECK(std::abs(em.exact.rgb[i] - ex.rgb[i]) <= 1e-6 * std::max(1.0f, ex.rgb[i]));  // float of sums in two orders
+  for (std::size_t i = 0; i < ex.pixels().size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const float a = em.exact.pixels()[i].channel(c), b = ex.pixels()[i].channel(c);
+      CHECK(std::abs(a - b) <= 1e-6 * std::max(1.0f, b));
+    }  // float of sums in two orders
   // A hook that returns the mean reproduces the default bit for bit; it is called per hit pixel
   // and channel with K contributions, the step count and the channel's emission scale.
   std::size_t calls = 0;
@@ -718,7 +721,7 @@ TEST_CASE("images are bit-identical for any thread count and for tiles merged") 
     const auto range = r::tile_pixels(126, t.part);
     for (std::size_t p = 0; p < 126; ++p)
       if (p < range.begin || p >= range.end)
-        for (int c = 0; c < 3; ++c) CHECK(exact_parts.back().rgb[3 * p + c] == 0.0f);
+        for (int c = 0; c < 3; ++c) CHECK(exact_parts.back().pixels()[p].channel(c) == 0.0f);
   }
   CHECK(same_bits(r::merge_tiles(exact_parts), r::render_exact(m, cam, one)));
   CHECK(same_bits(r::merge_tiles(mc_parts), mc1.mean));

@@ -22,6 +22,9 @@ namespace qrm::io {
 // rgb: one linear-RGB pixel.
 struct rgb {
   float r = 0, g = 0, b = 0;
+  // channel(c): r, g or b for c = 0, 1, 2.
+  float& channel(int c) { return c == 0 ? r : c == 1 ? g : b; }
+  float channel(int c) const { return c == 0 ? r : c == 1 ? g : b; }
   friend bool operator==(const rgb&, const rgb&) = default;
 };
 

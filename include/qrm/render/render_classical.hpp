@@ -44,50 +44,21 @@
 #include "camera.hpp"
 #include "dda.hpp"
 #include "image.hpp"
+#include "../detail/parallel.hpp"
 
 namespace qrm::detail {
-
-// fn(i) for i in [0, count) on `threads` std::threads (0: the hardware's); the first exception
-// thrown stops the work and is rethrown to the caller.
-template <class F>
-void parallel_indices(std::size_t count, unsigned threads, F&& fn) {
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  if (threads > count) threads = static_cast<unsigned>(std::max<std::size_t>(count, 1));
-  if (threads <= 1) {
-    for (std::size_t i = 0; i < count; ++i) fn(i);
-    return;
-  }
-  std::atomic<std::size_t> next{0};
-  std::atomic<bool> failed{false};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto work = [&] {
-    try {
-      for (std::size_t i; !failed.load(std::memory_order_relaxed) && (i = next.fetch_add(1)) < count;) fn(i);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(error_mutex);
-      if (!error) error = std::current_exception();
-      failed = true;
-    }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
-}
 
 // The walk's transitions as flat tables: out of direction d at a voxel with coin c, the list of
 // (new direction, probability |U[r][d]|^2) in the order walk_model::scatter gives them, so
 // sums and random choices over it match qrm::path_sum and qrm::monte_carlo operation for
 // operation.
-class walk_tables {
+class transition_table {
  public:
   struct transition {
     std::uint32_t direction;
     double probability;
   };
-  explicit walk_tables(const walk_model& m) : model_(&m), d_(m.direction_count()) {
+  explicit transition_table(const walk_model& m) : model_(&m), d_(m.direction_count()) {
     const std::size_t coins = m.coins().size();
     offset_.assign((coins + 1) * d_ + 1, 0);
     // Slot 0..D-1: air (identity); then coin c at (c + 1) * D.
@@ -174,7 +145,7 @@ inline std::vector<pixel_start> pixel_starts(const walk_model& m, const camera& 
   qrm::detail::check_render_model(m, "pixel_starts");
   const pixel_range r = tile_pixels(static_cast<std::size_t>(cam.width()) * cam.height(), part);
   std::vector<pixel_start> out(r.end - r.begin);
-  qrm::detail::parallel_indices(out.size(), threads, [&](std::size_t k) {
+  qrm::detail::parallel_jobs(out.size(), threads, [&](std::size_t k) {
     const std::size_t p = r.begin + k;
     const camera_ray ray = cam.ray(static_cast<unsigned>(p % cam.width()), static_cast<unsigned>(p / cam.width()));
     const voxel_hit h = first_hit(m.scene_data(), ray.origin, ray.direction);
@@ -190,7 +161,7 @@ inline std::vector<pixel_start> pixel_starts(const walk_model& m, const camera& 
 // each channel's value is bit-identical to qrm::path_sum's: the walker states are kept in a
 // vector sorted by state (qrm::path_sum's std::map order) and contributions to one state are
 // added in the order the map would receive them (a stable sort keeps generation order).
-inline rgb3 path_sum_rgb(const qrm::detail::walk_tables& t, const walk_start& start, unsigned steps) {
+inline rgb3 path_sum_rgb(const qrm::detail::transition_table& t, const walk_start& start, unsigned steps) {
   const walk_model& m = t.model();
   struct entry {
     walk_state w;
@@ -242,7 +213,7 @@ struct monte_carlo_rgb {
 // monte_carlo_rgb_walk(tables, start, steps, paths, g): qrm::monte_carlo for all three channels
 // with one set of paths; each channel's result is bit-identical to qrm::monte_carlo's with a
 // generator in the same state (the channels share the paths, as a spectral path tracer would).
-inline monte_carlo_rgb monte_carlo_rgb_walk(const qrm::detail::walk_tables& t, const walk_start& start, unsigned steps,
+inline monte_carlo_rgb monte_carlo_rgb_walk(const qrm::detail::transition_table& t, const walk_start& start, unsigned steps,
                                             std::uint64_t paths, rng& g) {
   if (paths == 0) throw std::invalid_argument("monte_carlo: paths must be positive");
   const walk_model& m = t.model();
@@ -335,7 +306,7 @@ struct path_set {
 // enumerate_paths(model or tables, start, steps, path_budget): every branching path, depth
 // first in coin order. Exponential in steps: throws std::length_error, naming the budget, as
 // soon as there are more than path_budget paths.
-inline path_set enumerate_paths(const qrm::detail::walk_tables& t, const walk_start& start, unsigned steps,
+inline path_set enumerate_paths(const qrm::detail::transition_table& t, const walk_start& start, unsigned steps,
                                 std::size_t path_budget = std::size_t{1} << 20) {
   const walk_model& m = t.model();
   path_set ps;
@@ -377,7 +348,7 @@ inline path_set enumerate_paths(const qrm::detail::walk_tables& t, const walk_st
 }
 inline path_set enumerate_paths(const walk_model& m, const walk_start& start, unsigned steps,
                                 std::size_t path_budget = std::size_t{1} << 20) {
-  return enumerate_paths(qrm::detail::walk_tables(m), start, steps, path_budget);
+  return enumerate_paths(qrm::detail::transition_table(m), start, steps, path_budget);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -419,9 +390,9 @@ inline walk_start render_start_of(const scene& sc, const std::pair<std::size_t, 
 }
 // Le + rho * value, per channel, into pixel p.
 inline void shade_pixel(render::image& img, std::size_t p, const voxel& v, const render::rgb3& value) {
-  for (std::size_t c = 0; c < 3; ++c)
-    img.rgb[3 * p + c] =
-        static_cast<float>(v.emission[static_cast<int>(c)] + v.reflectance[static_cast<int>(c)] * value[c]);
+  for (int c = 0; c < 3; ++c)
+    img.pixels()[p].channel(c) =
+        static_cast<float>(v.emission[c] + v.reflectance[c] * value[static_cast<std::size_t>(c)]);
 }
 }  // namespace qrm::detail
 
@@ -433,9 +404,9 @@ inline image render_exact(const walk_model& m, const camera& cam, const render_o
   const auto px = pixel_starts(m, cam, o.part, threads);
   const pixel_range r = tile_pixels(static_cast<std::size_t>(cam.width()) * cam.height(), o.part);
   const auto groups = qrm::detail::group_render_starts(px);
-  const qrm::detail::walk_tables tables(m);
+  const qrm::detail::transition_table tables(m);
   std::vector<rgb3> value(groups.keys.size());
-  qrm::detail::parallel_indices(groups.keys.size(), threads, [&](std::size_t k) {
+  qrm::detail::parallel_jobs(groups.keys.size(), threads, [&](std::size_t k) {
     value[k] = path_sum_rgb(tables, qrm::detail::render_start_of(m.scene_data(), groups.keys[k]), o.steps);
   });
   image img(cam.width(), cam.height());
@@ -459,18 +430,18 @@ inline monte_carlo_image render_monte_carlo(const walk_model& m, const camera& c
   const unsigned threads = qrm::detail::threads_or_hardware(o.threads);
   const auto px = pixel_starts(m, cam, o.part, threads);
   const pixel_range r = tile_pixels(static_cast<std::size_t>(cam.width()) * cam.height(), o.part);
-  const qrm::detail::walk_tables tables(m);
+  const qrm::detail::transition_table tables(m);
   monte_carlo_image out{image(cam.width(), cam.height()), image(cam.width(), cam.height())};
-  qrm::detail::parallel_indices(px.size(), threads, [&](std::size_t k) {
+  qrm::detail::parallel_jobs(px.size(), threads, [&](std::size_t k) {
     if (!px[k].hit) return;
     const std::size_t p = r.begin + k;
     rng g = rng::stream(seed, p);
     const monte_carlo_rgb est = monte_carlo_rgb_walk(tables, px[k].start, o.steps, paths, g);
     const voxel& v = m.scene_data()[px[k].voxel];
     qrm::detail::shade_pixel(out.mean, p, v, est.mean);
-    for (std::size_t c = 0; c < 3; ++c)
-      out.standard_error.rgb[3 * p + c] =
-          static_cast<float>(v.reflectance[static_cast<int>(c)] * est.standard_error[c]);
+    for (int c = 0; c < 3; ++c)
+      out.standard_error.pixels()[p].channel(c) =
+          static_cast<float>(v.reflectance[c] * est.standard_error[static_cast<std::size_t>(c)]);
   });
   return out;
 }
@@ -507,11 +478,11 @@ inline emulated_image render_emulated(const walk_model& m, const camera& cam, co
   std::vector<std::vector<std::size_t>> members(groups.keys.size());
   for (std::size_t k = 0; k < px.size(); ++k)
     if (px[k].hit) members[groups.key_of_pixel[k]].push_back(k);
-  const qrm::detail::walk_tables tables(m);
+  const qrm::detail::transition_table tables(m);
   const scene& sc = m.scene_data();
   const rgb3 scale{sc.emission_scale(0), sc.emission_scale(1), sc.emission_scale(2)};
   emulated_image out{image(cam.width(), cam.height()), image(cam.width(), cam.height())};
-  qrm::detail::parallel_indices(groups.keys.size(), threads, [&](std::size_t key) {
+  qrm::detail::parallel_jobs(groups.keys.size(), threads, [&](std::size_t key) {
     const path_set ps =
         enumerate_paths(tables, qrm::detail::render_start_of(sc, groups.keys[key]), o.steps, e.path_budget);
     const rgb3 exact = ps.exact_mean();
