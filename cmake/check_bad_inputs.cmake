@@ -2,11 +2,21 @@
 # Runs every row of README.md's "Bad input" table whose first column is a `qrm ...` command:
 # the command must exit with the stated code and print the stated message (the last `...` of
 # the row). So the table and the program cannot drift apart.
-file(STRINGS ${README} lines)
+# Read as one string and split into lines by hand: a CMake list treats square brackets as
+# grouping, so a message with an unbalanced ']' (such as "in (0, 0.5]") would glue lines together.
+# Brackets and semicolons are swapped for placeholders while the text is a list.
+file(READ ${README} text)
+string(REPLACE ";" "<qrm-semicolon>" text "${text}")
+string(REPLACE "[" "<qrm-open>" text "${text}")
+string(REPLACE "]" "<qrm-close>" text "${text}")
+string(REPLACE "\n" ";" lines "${text}")
 set(in_section OFF)
 set(count 0)
 set(failures "")
 foreach(line IN LISTS lines)
+  string(REPLACE "<qrm-open>" "[" line "${line}")
+  string(REPLACE "<qrm-close>" "]" line "${line}")
+  string(REPLACE "<qrm-semicolon>" ";" line "${line}")
   if(line MATCHES "^## ")
     if(line MATCHES "^## Bad input")
       set(in_section ON)

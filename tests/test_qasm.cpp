@@ -291,3 +291,102 @@ TEST_CASE("export rejects what OpenQASM cannot express") {
   r.ops().push_back(qrm::op::mux1_op{{{1, qrm::gate::ry(0.1)}, {1, qrm::gate::ry(0.2)}}, 0, {1}, {}});
   CHECK_THROWS_WITH_AS(qrm::to_qasm(r), doctest::Contains("op 0: select value 1 has two entries"), std::invalid_argument);
 }
+
+// Found by fuzzing (tests/fuzz/fuzz_qasm.cpp and its edge seeds): each of these was accepted
+// (a NaN angle became a NaN state; a NaN index reached the number formatter, which threw a
+// to_qasm error of the wrong type) or exhausted time, memory or the stack.
+TEST_CASE("hostile input: non-finite values, deep nesting, multiplying definitions, huge registers") {
+  // Angles must be finite, also when a definition computes them.
+  CHECK(error_of(header + "ry(0/0) q[0];\n") == "qasm:4:1: gate 'ry': parameter 1 is nan; angles must be finite");
+  CHECK(error_of(header + "gphase(ln(0));\n") == "qasm:4:1: gate 'gphase': parameter 1 is -inf; angles must be finite");
+  CHECK(error_of(header + "U(0, 1e308 * 10, 0) q[0];\n") ==
+        "qasm:4:1: gate 'U': parameter 2 is inf; angles must be finite");
+  CHECK(error_of(header + "gate g(t) a { ry(1 / t) a; }\ng(0.5) q[0];\ng(0) q[1];\n") ==
+        "qasm:4:15: gate 'ry': parameter 1 is inf; angles must be finite (expanding the call of 'g' at 6:1)");
+  // Indices and counts that are not numbers are reported as such.
+  CHECK(error_of(header + "h q[0/0];\n") == "qasm:4:5: a qubit index must be a non-negative integer, got nan");
+  CHECK(error_of(header + "h q[1/0];\n") == "qasm:4:5: qubit index inf is out of range for 'q' (2 qubits)");
+  CHECK(error_of(header + "ctrl(0/0) @ x q[0], q[1];\n") ==
+        "qasm:4:6: a control count must be an integer in [1, 64], got nan");
+
+  // Nesting: 1000 levels parse (and evaluate to the right angle), deeper is refused before the
+  // recursion can exhaust the stack: parentheses, signs, and a long chain of additions.
+  auto nested = [](std::size_t depth) { return std::string(depth, '(') + "0.5" + std::string(depth, ')'); };
+  const qrm::program ok = qrm::from_qasm(header + "ry(" + nested(998) + ") q[0];\n");
+  CHECK(std::get<qrm::op::gate1_op>(ok.ops()[0]).gate.angle == 0.5);
+  const std::string too_deep = "expression nested more than 1000 levels deep";
+  CHECK(error_of(header + "ry(" + nested(5000) + ") q[0];\n").find(too_deep) != std::string::npos);
+  CHECK(error_of(header + "ry(" + std::string(5000, '-') + "1) q[0];\n").find(too_deep) != std::string::npos);
+  CHECK(error_of(header + "ry(" + std::string(5000, '+') + "1) q[0];\n").find(too_deep) != std::string::npos);
+  std::string chain = "1";
+  for (int i = 0; i < 1500; ++i) chain += "+1";
+  CHECK(error_of(header + "ry(" + chain + ") q[0];\n").find(too_deep) != std::string::npos);
+  std::string powers = "1";
+  for (int i = 0; i < 1500; ++i) powers += "**1";
+  CHECK(error_of(header + "ry(" + powers + ") q[0];\n").find(too_deep) != std::string::npos);
+
+  // Definitions that call the previous one twice double at each level: 2^25 gates from a few
+  // hundred bytes. Refused at the top-level call, both for a gate imported as one matrix (at
+  // most 6 qubits) and for a wider one expanded inline; ten levels (1024 gates) are fine.
+  auto doubling = [](std::size_t levels, std::size_t qubits) {
+    std::string args;
+    for (std::size_t i = 0; i < qubits; ++i) args += (i ? ", a" : "a") + std::to_string(i);
+    std::string t = "OPENQASM 3.0;\ninclude \"stdgates.inc\";\nqubit[" + std::to_string(qubits) + "] q;\n";
+    t += "gate g0 " + args + " { h a0; }\n";
+    for (std::size_t l = 1; l <= levels; ++l) {
+      const std::string prev = "g" + std::to_string(l - 1) + " " + args + "; ";
+      t += "gate g" + std::to_string(l) + " " + args + " { " + prev + prev + "}\n";
+    }
+    t += "g" + std::to_string(levels);
+    for (std::size_t i = 0; i < qubits; ++i) t += (i ? ", q[" : " q[") + std::to_string(i) + "]";
+    return t + ";\n";
+  };
+  const std::string multiplies = "' expands to more than 1048576 gates (gate definitions that call each other multiply)";
+  CHECK(error_of(doubling(25, 1)) == "qasm:30:1: gate 'g25" + multiplies + "; qrm imports at most that many");
+  CHECK(error_of(doubling(25, 7)) == "qasm:30:1: gate 'g25" + multiplies + "; qrm imports at most that many");
+  CHECK(qrm::from_qasm(doubling(10, 1)).size() == 1);  // one 2x2 matrix: H^1024 = I
+  CHECK(qrm::from_qasm(doubling(10, 7)).size() == 1024);
+  // A 6-qubit definition of 3 * 2^17 gates stays under the gate limit, but its 64x64 matrix would
+  // cost 3 * 2^17 * 4096 > 2^30 operations.
+  std::string six = "OPENQASM 3.0;\ninclude \"stdgates.inc\";\nqubit[6] q;\n";
+  six += "gate c0 a, b, c, d, e, f { h a; h b; h c; }\n";
+  for (int l = 1; l <= 17; ++l)
+    six += "gate c" + std::to_string(l) + " a, b, c, d, e, f { c" + std::to_string(l - 1) + " a, b, c, d, e, f; c" +
+           std::to_string(l - 1) + " a, b, c, d, e, f; }\n";
+  six += "c17 q[0], q[1], q[2], q[3], q[4], q[5];\n";
+  CHECK(error_of(six) ==
+        "qasm:22:1: gate 'c17' is too large to import: the matrices of the gate definitions need more than 1073741824 "
+        "operations (gate definitions that call each other multiply)");
+
+  // Registers: each at most 2^20 qubits, all together at most 2^24.
+  std::string wide = "OPENQASM 3.0;\n";
+  for (int i = 0; i < 17; ++i) wide += "qubit[1048576] r" + std::to_string(i) + ";\n";
+  CHECK(error_of(wide) == "qasm:18:16: the registers declared add up to more than 16777216 qubits");
+  CHECK(qrm::from_qasm("OPENQASM 3.0;\nqubit[1048576] a;\nqubit[1048576] b;\n").width() == 2097152);
+}
+
+TEST_CASE("large finite angles import as unitary gates and round-trip") {
+  // phi + lambda rounds for huge angles (by 0.25 at 3e15) and overflows near 1e308: the matrices
+  // are built from products of phases instead, and global phases are summed modulo 2 pi.
+  const std::string text = header +
+                           "U(1, 3e15, 0.3) q[0];\nu3(0.5, 1e308, 1e308) q[1];\nu2(-1e308, -1e308) q[0];\n"
+                           "gphase(1e308);\ngphase(1e308);\nctrl @ U(0.7, 3e15, 3e15) q[0], q[1];\n";
+  const qrm::program p = qrm::from_qasm(text);
+  for (const auto& o : p.ops()) {
+    const auto& g = std::get<qrm::op::gate1_op>(o).gate;
+    // 1e-15: a handful of roundings of O(1) products; the rounded phase sum was off by 0.1.
+    CHECK(qrm::detail::unitarity_error(g) < 1e-15);
+  }
+  // The exporter accepts it (it refuses non-unitary matrices) and the state comes back.
+  qrm::rng g(3);
+  const cvec initial = qrm_test::random_unit_state(2, g);
+  const cvec want = qrm_test::run_from(p, initial);
+  CHECK(std::isfinite(std::abs(want[0])));
+  CHECK(max_diff(want, qrm_test::run_from(qrm::from_qasm(qrm::to_qasm(p)), initial), 4) < 1e-12);  // as above
+  // The summed phase 2e308 is 2 * (1e308 mod 2 pi) modulo 2 pi, not inf.
+  const qrm::program phase_only = qrm::from_qasm("OPENQASM 3.0;\nqubit q;\ngphase(1e308);\ngphase(1e308);\n");
+  const double turn = 2 * std::acos(-1.0);
+  const double expected = std::remainder(2 * std::remainder(1e308, turn), turn);
+  const auto z = std::get<qrm::op::gate1_op>(phase_only.ops()[0]).gate.m[0][0];
+  CHECK(std::abs(z - std::polar(1.0, expected)) < 1e-15);  // one rounding of the polar form
+}

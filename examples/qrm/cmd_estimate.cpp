@@ -76,7 +76,7 @@ int cmd_estimate(args& a) {
   const std::string name = a.str("estimator", "fae");
   static const std::set<std::string> names{"fae", "iqae", "mlae", "canonical", "qcoin", "mc"};
   if (!names.count(name))
-    fail("estimate: --estimator must be one of fae, iqae, mlae, canonical, qcoin, mc; got '" + name + "'");
+    fail("--estimator must be one of fae, iqae, mlae, canonical, qcoin, mc; got '" + name + "'");
 
   // Flags that belong to other estimators are errors, not silently ignored.
   const std::set<std::string> own = [&]() -> std::set<std::string> {
@@ -89,19 +89,19 @@ int cmd_estimate(args& a) {
   }();
   for (const char* f : {"delta", "maxiter", "rescale", "no-rescale", "epsilon", "alpha", "shots", "interval",
                         "schedule", "m", "evaluation-qubits", "steps"})
-    if (a.has(f) && !own.count(f)) fail("estimate: --" + std::string(f) + " does not apply to --estimator " + name);
+    if (a.has(f) && !own.count(f)) fail("--" + std::string(f) + " does not apply to --estimator " + name);
 
   double p = 0;
   std::uint64_t seed = 1;
   std::string format;
   bool exact = false;
   try {
-    if (!a.has("probability")) fail("estimate: missing required flag --probability");
+    if (!a.has("probability")) fail("missing required flag --probability");
     p = a.required_number("probability");
-    if (!(p >= 0.0 && p <= 1.0)) fail("estimate: --probability must be in [0, 1], got " + a.str("probability", ""));
+    if (!(p >= 0.0 && p <= 1.0)) fail("--probability must be in [0, 1], got " + a.str("probability", ""));
     seed = static_cast<std::uint64_t>(a.integer("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
     format = a.str("format", "json");
-    if (format != "json" && format != "text") fail("estimate: --format must be json or text, got '" + format + "'");
+    if (format != "json" && format != "text") fail("--format must be json or text, got '" + format + "'");
     exact = a.flag("exact-probabilities");
   } catch (const usage_error& e) {
     if (std::string(e.what()).find("usage:") != std::string::npos) throw;
@@ -117,7 +117,7 @@ int cmd_estimate(args& a) {
     }
     const bool ok = (open_lo ? x > lo : x >= lo) && (open_hi ? x < hi : x <= hi);
     if (!ok)
-      fail("estimate: --" + std::string(flag) + " must be in " + (open_lo ? "(" : "[") + num(lo) + ", " + num(hi) +
+      fail("--" + std::string(flag) + " must be in " + (open_lo ? "(" : "[") + num(lo) + ", " + num(hi) +
            (open_hi ? ")" : "]") + ", got " + a.str(flag, ""));
     return x;
   };
@@ -140,7 +140,7 @@ int cmd_estimate(args& a) {
       if (v == w) return v;
       list += (list.empty() ? "" : ", ") + std::string(w);
     }
-    fail("estimate: --" + std::string(flag) + " must be one of " + list + "; got '" + v + "'");
+    fail("--" + std::string(flag) + " must be one of " + list + "; got '" + v + "'");
   };
 
   qrm::analytic_oracle oracle(p);
@@ -158,7 +158,7 @@ int cmd_estimate(args& a) {
     } catch (const usage_error& e) {
       fail(e.what());
     }
-    if (yes && no) fail("estimate: give either --rescale or --no-rescale, not both");
+    if (yes && no) fail("give either --rescale or --no-rescale, not both");
     o.rescale = !no;
     o.exact_probabilities = exact;
     r = qrm::faster_amplitude_estimation(oracle, o, g);

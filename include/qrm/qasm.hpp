@@ -82,6 +82,13 @@ inline std::string qasm_number(double v) {
   return std::string(buf, r.ptr);
 }
 
+// A value in a message: like qasm_number, and "nan" / "inf" / "-inf" for the rest.
+inline std::string qasm_value_text(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  return qasm_number(v);
+}
+
 // g = e^{i gamma} U(theta, phi, lambda), OpenQASM 3's
 // U = [[cos t/2, -e^{i lambda} sin t/2], [e^{i phi} sin t/2, e^{i (phi + lambda)} cos t/2]].
 struct u_angles {
@@ -97,9 +104,12 @@ inline u_angles qasm_u_angles(const gate1& g) {
   a.lambda = std::abs(m00) >= std::abs(m10) ? std::arg(m11) - a.gamma - a.phi : std::arg(-m01) - a.gamma;
   return a;
 }
+// e^{i (phi + lambda)} is formed as a product: for large angles phi + lambda rounds (by 0.25 at
+// 3e15) and the matrix would not be unitary.
 inline gate1 qasm_u_matrix(double theta, double phi, double lambda) {
   const double c = std::cos(theta / 2), s = std::sin(theta / 2);
-  return gate::u(c, -std::polar(1.0, lambda) * s, std::polar(1.0, phi) * s, std::polar(1.0, phi + lambda) * c);
+  const complex ep = std::polar(1.0, phi), el = std::polar(1.0, lambda);
+  return gate::u(c, -el * s, ep * s, ep * el * c);
 }
 
 // The OpenQASM spelling of g: a standard gate when g is one (to 1e-15, far below the 1e-12
@@ -509,6 +519,7 @@ class qasm_parser {
     std::size_t param = 0;
     std::string fn;
     std::vector<expr> args;
+    std::size_t depth = 1;  // of the tree: eval recurses this deep
   };
   struct modifier {
     bool inverse = false, negative = false;
@@ -573,49 +584,79 @@ class qasm_parser {
   std::size_t integer(const qasm_token& at, double v, const char* what, std::size_t lo, std::size_t hi) {
     if (!(v == std::floor(v)) || v < static_cast<double>(lo) || v > static_cast<double>(hi))
       qasm_fail(at, std::string(what) + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                        "], got " + qasm_number(v));
+                        "], got " + qasm_value_text(v));
     return static_cast<std::size_t>(v);
   }
 
   // ---- expressions --------------------------------------------------------------------------
+  // Parsing and evaluating recurse as deep as an expression nests (parentheses, signs, powers,
+  // and chains like 1+1+...+1): deeper ones are refused before they can exhaust the stack. Every
+  // nesting passes through parse_unary, which counts the levels.
+  static constexpr std::size_t max_expression_depth = 1000;
+  class nesting_guard {
+   public:
+    nesting_guard(qasm_parser& p, const qasm_token& at) : p_(p) {
+      if (++p_.nesting_ > max_expression_depth) {
+        --p_.nesting_;
+        too_deep(at);
+      }
+    }
+    ~nesting_guard() { --p_.nesting_; }
+    nesting_guard(const nesting_guard&) = delete;
+    nesting_guard& operator=(const nesting_guard&) = delete;
+
+   private:
+    qasm_parser& p_;
+  };
+  [[noreturn]] static void too_deep(const qasm_token& at) {
+    qasm_fail(at, "expression nested more than " + std::to_string(max_expression_depth) + " levels deep");
+  }
+  // An operator node over `args`.
+  static expr node(char op, std::vector<expr> args, const qasm_token& at, std::string fn = {}) {
+    expr r{op, 0, 0, std::move(fn), std::move(args), 1};
+    for (const expr& a : r.args) r.depth = std::max(r.depth, a.depth + 1);
+    if (r.depth > max_expression_depth) too_deep(at);
+    return r;
+  }
   expr parse_expr(const gate_def* def) {
     expr e = parse_term(def);
     while (lex_.peek().is('+') || lex_.peek().is('-')) {
-      const char op = lex_.next().text[0];
-      expr r{op, 0, 0, {}, {}};
-      r.args.push_back(std::move(e));
-      r.args.push_back(parse_term(def));
-      e = std::move(r);
+      const qasm_token op = lex_.next();
+      std::vector<expr> args;
+      args.push_back(std::move(e));
+      args.push_back(parse_term(def));
+      e = node(op.text[0], std::move(args), op);
     }
     return e;
   }
   expr parse_term(const gate_def* def) {
     expr e = parse_unary(def);
     while (lex_.peek().is('*') || lex_.peek().is('/')) {
-      const char op = lex_.next().text[0];
-      expr r{op, 0, 0, {}, {}};
-      r.args.push_back(std::move(e));
-      r.args.push_back(parse_unary(def));
-      e = std::move(r);
+      const qasm_token op = lex_.next();
+      std::vector<expr> args;
+      args.push_back(std::move(e));
+      args.push_back(parse_unary(def));
+      e = node(op.text[0], std::move(args), op);
     }
     return e;
   }
   expr parse_unary(const gate_def* def) {
+    const nesting_guard guard(*this, lex_.peek());
     if (lex_.peek().is('-') || lex_.peek().is('+')) {
-      const bool minus = lex_.next().is('-');
+      const qasm_token sign = lex_.next();
       expr inner = parse_unary(def);
-      if (!minus) return inner;
-      expr r{'u', 0, 0, {}, {}};
-      r.args.push_back(std::move(inner));
-      return r;
+      if (sign.is('+')) return inner;
+      std::vector<expr> args;
+      args.push_back(std::move(inner));
+      return node('u', std::move(args), sign);
     }
     expr base = parse_primary(def);
     if (lex_.peek().kind == qasm_token::punct && lex_.peek().text == "**") {
-      lex_.next();
-      expr r{'^', 0, 0, {}, {}};
-      r.args.push_back(std::move(base));
-      r.args.push_back(parse_unary(def));
-      return r;
+      const qasm_token op = lex_.next();
+      std::vector<expr> args;
+      args.push_back(std::move(base));
+      args.push_back(parse_unary(def));
+      return node('^', std::move(args), op);
     }
     return base;
   }
@@ -638,10 +679,10 @@ class qasm_parser {
     for (std::string_view f : {"sin", "cos", "tan", "arcsin", "arccos", "arctan", "exp", "ln", "sqrt"})
       if (t.text == f) {
         expect('(', ("after the function " + std::string(f)).c_str());
-        expr r{'f', 0, 0, std::string(f), {}};
-        r.args.push_back(parse_expr(def));
+        std::vector<expr> args;
+        args.push_back(parse_expr(def));
         expect(')', "to close the function argument");
-        return r;
+        return node('f', std::move(args), t, std::string(f));
       }
     qasm_fail(t, "unknown identifier '" + std::string(t.text) + "' in an expression");
   }
@@ -726,6 +767,8 @@ class qasm_parser {
   }
 
   void declare(const qasm_token& name, std::size_t size) {
+    if (width_ + size > max_qubits)
+      qasm_fail(name, "the registers declared add up to more than " + std::to_string(max_qubits) + " qubits");
     for (const reg& r : regs_)
       if (r.name == name.text) qasm_fail(name, "register '" + r.name + "' is already declared");
     if (reserved(name.text)) qasm_fail(name, "'" + std::string(name.text) + "' is a keyword");
@@ -794,9 +837,9 @@ class qasm_parser {
     const qasm_token at = lex_.peek();
     const double v = eval(parse_expr(nullptr), {});
     if (!(v == std::floor(v)) || v < 0)
-      qasm_fail(at, "a qubit index must be a non-negative integer, got " + qasm_number(v));
+      qasm_fail(at, "a qubit index must be a non-negative integer, got " + qasm_value_text(v));
     if (v >= static_cast<double>(r->size))
-      qasm_fail(at, "qubit index " + qasm_number(v) + " is out of range for '" + r->name + "' (" + std::to_string(r->size) +
+      qasm_fail(at, "qubit index " + qasm_value_text(v) + " is out of range for '" + r->name + "' (" + std::to_string(r->size) +
                         (r->size == 1 ? " qubit)" : " qubits)"));
     expect(']', "after the qubit index");
     return static_cast<qubit_index>(r->offset + static_cast<std::size_t>(v));
@@ -874,15 +917,52 @@ class qasm_parser {
   static instr single(const gate1& g, qubit_index q) { return {g, q, {}, false, 0}; }
   static instr controlled(const gate1& g, qubit_index c, qubit_index q) { return {g, q, {{c, true}}, false, 0}; }
 
+  // Gate definitions that call each other multiply (a body calling the previous gate twice, ten
+  // levels deep, is 2^10 gates): their expansion is bounded so a small file cannot exhaust time
+  // or memory. Counted over the whole import: the primitive gates (controlled single-qubit
+  // gates and phases) that expanding definitions produces; the matrix of a definition on k <= 6
+  // qubits costs its expanded size x 4^k operations.
+  static constexpr std::size_t max_expanded_gates = std::size_t{1} << 20;
+  static constexpr std::uint64_t max_matrix_work = std::uint64_t{1} << 30;
+  static constexpr std::size_t max_qubits = std::size_t{1} << 24;
+
+  // Where the top-level call being executed is (for errors found while expanding it).
+  std::string site_text(const qasm_token& at) const {
+    if (!site_ || (site_->line == at.line && site_->column == at.column)) return "";
+    return " (expanding the call of '" + std::string(site_->text) + "' at " + std::to_string(site_->line) + ":" +
+           std::to_string(site_->column) + ")";
+  }
+  void charge_expansion(std::size_t gates) {
+    expanded_ += gates;
+    if (expanded_ > max_expanded_gates)
+      qasm_fail(*site_, "gate '" + std::string(site_->text) + "' expands to more than " +
+                            std::to_string(max_expanded_gates) +
+                            " gates (gate definitions that call each other multiply); qrm imports at most that many");
+  }
+  // The parameters of call c, evaluated in env; angles must be finite.
+  std::vector<double> parameters(const call& c, std::span<const double> env) const {
+    std::vector<double> params;
+    for (const expr& e : c.params) params.push_back(eval(e, env));
+    for (std::size_t i = 0; i < params.size(); ++i)
+      if (!std::isfinite(params[i]))
+        qasm_fail(c.at, "gate '" + c.name + "': parameter " + std::to_string(i + 1) + " is " + qasm_value_text(params[i]) +
+                            "; angles must be finite" + site_text(c.at));
+    return params;
+  }
+
   // The gate `name` on `args` (no modifiers), appended to out.
-  void base(const std::string& name, std::span<const double> p, std::span<const qubit_index> a, std::vector<instr>& out) const {
+  void base(const std::string& name, std::span<const double> p, std::span<const qubit_index> a, std::vector<instr>& out) {
     const double pi = std::acos(-1.0);
+    const std::size_t before = out.size();
     if (name == "U") {
       out.push_back(single(qasm_u_matrix(p[0], p[1], p[2]), a[0]));
     } else if (name == "gphase") {
       out.push_back({gate1{}, 0, {}, true, p[0]});
     } else if (auto it = gates_.find(name); it != gates_.end()) {
+      in_definition_ += 1;
       for (const call& c : it->second.body) expand(c, p, a, out);
+      in_definition_ -= 1;
+      return;
     } else if (name == "x" || name == "y" || name == "z" || name == "h") {
       out.push_back(single(name == "x" ? gate::x() : name == "y" ? gate::y() : name == "z" ? gate::z() : gate::h(), a[0]));
     } else if (name == "s" || name == "sdg" || name == "t" || name == "tdg") {
@@ -903,7 +983,7 @@ class qasm_parser {
     } else if (name == "u2" || name == "u3") {
       const double theta = name == "u2" ? pi / 2 : p[0], phi = p[name == "u2" ? 0 : 1], lambda = p[name == "u2" ? 1 : 2];
       gate1 g = qasm_u_matrix(theta, phi, lambda);
-      const complex z = std::polar(1.0, -(phi + lambda) / 2);
+      const complex z = std::polar(1.0, -phi / 2) * std::polar(1.0, -lambda / 2);  // no overflow of phi + lambda
       for (auto& row : g.m)
         for (complex& v : row) v *= z;
       out.push_back(single(g, a[0]));
@@ -936,13 +1016,13 @@ class qasm_parser {
     } else if (name == "ccx") {
       out.push_back({gate::x(), a[2], {{a[0], true}, {a[1], true}}, false, 0});
     }
+    if (in_definition_ > 0) charge_expansion(out.size() - before);
   }
 
   // The call c (its operands mapped through `qubits` inside a gate body), appended to out.
   void expand(const call& c, std::span<const double> env, std::span<const qubit_index> qubits, std::vector<instr>& out,
-              bool top_level = false) const {
-    std::vector<double> params;
-    for (const expr& e : c.params) params.push_back(eval(e, env));
+              bool top_level = false) {
+    const std::vector<double> params = parameters(c, env);
     std::vector<qubit_index> q;
     for (qubit_index o : c.operands) q.push_back(top_level ? o : qubits[o]);
     std::vector<control> cs;
@@ -979,6 +1059,10 @@ class qasm_parser {
     std::vector<instr> body;
     base(name, p, args, body);
     const std::size_t d = std::size_t{1} << k;
+    matrix_work_ += static_cast<std::uint64_t>(body.size()) * d * d;
+    if (matrix_work_ > max_matrix_work)
+      qasm_fail(*site_, "gate '" + name + "' is too large to import: the matrices of the gate definitions need more than " +
+                            std::to_string(max_matrix_work) + " operations (gate definitions that call each other multiply)");
     dense_matrix m(d);
     std::vector<complex> v(d);
     for (std::size_t col = 0; col < d; ++col) {
@@ -1005,11 +1089,11 @@ class qasm_parser {
   }
 
   void execute(const call& c) {
+    site_ = c.at;
     const auto user = gates_.find(c.name);
     const std::size_t k = user == gates_.end() ? 0 : user->second.qubits.size();
     if (k >= 1 && k <= 6) {
-      std::vector<double> params;
-      for (const expr& e : c.params) params.push_back(eval(e, {}));
+      const std::vector<double> params = parameters(c, {});
       std::vector<control> cs;
       bool inverse = false;
       std::size_t next = 0;
@@ -1031,7 +1115,9 @@ class qasm_parser {
       if (!i.is_phase) {
         ops_.push_back(op::gate1_op{i.g, i.target, std::move(i.controls)});
       } else if (i.controls.empty()) {
-        global_phase_ += i.phase;
+        // Reduced modulo 2 pi as it is summed: many large finite phases must not add up to inf.
+        const double turn = 2 * std::acos(-1.0);
+        global_phase_ = std::remainder(global_phase_ + std::remainder(i.phase, turn), turn);
       } else {
         const control last = i.controls.back();
         i.controls.pop_back();
@@ -1050,6 +1136,11 @@ class qasm_parser {
   std::map<std::pair<std::string, std::vector<double>>, dense_matrix> matrices_;
   std::vector<op::any> ops_;
   double global_phase_ = 0;
+  std::size_t nesting_ = 0;             // current expression nesting while parsing
+  std::optional<qasm_token> site_;      // the top-level call being executed
+  std::size_t in_definition_ = 0;       // > 0 while expanding the body of a definition
+  std::size_t expanded_ = 0;            // gates produced by expanding definitions so far
+  std::uint64_t matrix_work_ = 0;       // operations spent on definition matrices so far
 };
 
 }  // namespace detail

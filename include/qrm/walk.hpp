@@ -121,9 +121,19 @@ struct walk_tables {
 };
 
 namespace detail {
+// Ry(2 asin sqrt v), with the matrix entries sqrt(1 - v) and sqrt(v) computed directly rather
+// than as cos and sin of the angle: v = 1 (a white reflectance, an emission equal to the scale)
+// then gives exactly |1>, not |1> plus a 6e-17 |0> branch. Such branches are invisible in P(out=1)
+// but the compact backend stores them, and they doubled its support at every step through air.
 inline gate1 sample_rotation(double v) {
   const double clipped = std::min(1.0, std::max(0.0, v));
-  return gate::ry(2.0 * std::asin(std::sqrt(clipped)));
+  gate1 g = gate::ry(2.0 * std::asin(std::sqrt(clipped)));
+  const double s = std::sqrt(clipped), c = std::sqrt(1.0 - clipped);
+  g.m[0][0] = c;
+  g.m[0][1] = -s;
+  g.m[1][0] = s;
+  g.m[1][1] = c;
+  return g;
 }
 }  // namespace detail
 
