@@ -16,5 +16,7 @@ int cmd_version(args&);
 int cmd_lightmap(args&);
 int cmd_circuit(args&);
 int cmd_estimate(args&);
+int cmd_render(args&);
+int cmd_merge(args&);
 
 }  // namespace qrm_cli
