@@ -94,7 +94,9 @@ int cmd_merge(args& a) {
     for (unsigned i = 0; i < n; ++i)
       pieces.push_back(qrm::io::read_pfm(parts / (base + ".part-" + std::to_string(i) + "-of-" + std::to_string(n) + ".pfm")));
     merged.push_back(qrm::render::merge_tiles(pieces));
-    write_image(s, base, merged.back(), written, merged.back().width() <= 64 ? 256 / merged.back().width() : 1);
+    // As render wrote them: light maps with cells shown as blocks, 3D images pixel for pixel.
+    const std::size_t block = ms[0].kind == "lightmap" ? std::max<std::size_t>(1, 256 / merged.back().width()) : 1;
+    write_image(s, base, merged.back(), written, block);
   }
   if (ms[0].kind == "lightmap") {
     // The CSV rows of each tile, in tile order (= cell order), under one header.

@@ -18,5 +18,6 @@ int cmd_circuit(args&);
 int cmd_estimate(args&);
 int cmd_render(args&);
 int cmd_merge(args&);
+int cmd_figures(args&);
 
 }  // namespace qrm_cli
