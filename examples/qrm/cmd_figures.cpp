@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include <qrm/io/pfm.hpp>
 #include <qrm/io/svg_plot.hpp>
 #include <qrm/render/experiments.hpp>
 
@@ -218,6 +219,25 @@ int cmd_figures(args& a) {
         log.line("| " + pt.method + " | " + pt.setting + " | " + fmt(pt.estimates, "%.3g") + " | " +
                  fmt(pt.seconds, "%.3g") + " | " + fmt(pt.rmse, "%.3g") + " |");
     log.line("");
+  }
+  // Panels for the README: the methods side by side, each 128 pixels wide.
+  auto panel = [&](const std::string& out_name, const std::vector<std::string>& bases) {
+    std::vector<qrm::io::image> imgs;
+    for (const std::string& b : bases) {
+      const qrm::io::image img = qrm::io::read_pfm(dir / (b + ".pfm"));
+      imgs.push_back(img.width() >= 128 ? img
+                     : img.width() <= 16 ? qrm::io::upsample_nearest(img, 128 / img.width())
+                                         : qrm::io::upsample_nearest(img, std::max<std::size_t>(1, 128 / img.width())));
+    }
+    qrm::io::write_png(dir / out_name, qrm::io::side_by_side(imgs, 4, {0.2f, 0.2f, 0.2f}));
+  };
+  if (!quick) {
+    const qrm::io::image est = qrm::io::read_pfm(dir / "paper_8x8_lightmap_estimated.pfm");
+    qrm::io::write_pfm(dir / "paper_8x8_lightmap_upsampled.pfm", qrm::io::upsample_bilinear(est, 128, 128));
+    panel("panel_lightmap.png", {"paper_8x8_lightmap_estimated", "paper_8x8_lightmap_exact",
+                                 "paper_8x8_lightmap_classical", "paper_8x8_lightmap_upsampled"});
+    panel("panel_cornell.png", {"cornell_box_8_exact", "cornell_box_8_mc", "cornell_box_8_emulated", "cornell_box_8_quantum"});
+    panel("panel_spheres.png", {"two_spheres_8_exact", "two_spheres_8_mc", "two_spheres_8_emulated", "two_spheres_8_quantum"});
   }
   log.line("Total: " + fmt(seconds_since(t_all), "%.1f") + " s.");
   qrm::io::write_file_atomically(dir / "summary.md", log.md);
