@@ -66,6 +66,7 @@ struct quantum_estimate {
 namespace detail {
 
 // P(out = 1) of a walk program and an estimate of it, for one (start, channel).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline quantum_estimate estimate_walk(const walk_model& m, const walk_start& start, int channel,
                                       const quantum_options& o, rng& g) {
   walk_options wo;
@@ -111,6 +112,7 @@ inline quantum_estimate estimate_walk(const walk_model& m, const walk_start& sta
 }
 
 // Channels that repeat an earlier one (grey scenes) are computed once.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::array<int, 3> channel_sources(const scene& sc) {
   std::array<int, 3> source{0, 1, 2};
   for (int c = 1; c < 3; ++c)
@@ -170,6 +172,7 @@ struct lightmap_images {
   image estimated, exact, classical;
 };
 
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline lightmap_images lightmap_as_images(const scene& sc, std::span<const quantum_estimate> cells) {
   if (sc.dims() != 2) throw std::invalid_argument("lightmap_as_images: a 2D scene is needed");
   lightmap_images im{image(sc.size(), sc.size()), image(sc.size(), sc.size()), image(sc.size(), sc.size())};
@@ -227,6 +230,7 @@ quantum_image render_quantum(const walk_model& m, const camera& cam, const quant
 // amplitude_path_estimator(settings): for render_emulated: the K sampled contributions give
 // a = mean(f) / (S * scale) (the Path gate's P(out = 1) on the K-path state); the estimator's
 // answer is scaled back. An analytic oracle: the emulator's state is classical anyway.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline path_estimator amplitude_path_estimator(estimator_settings settings) {
   return [settings](const std::vector<double>& f, unsigned steps, double emission_scale, rng& g) {
     double mean = 0;
