@@ -28,10 +28,10 @@ TEST_CASE("path sum by forward pass equals explicit path enumeration") {
   }
 }
 
-TEST_CASE("history circuit equals the classical path sum; pruning never changes P(out=1)") {
+TEST_CASE("history circuit equals the classical path sum; dense and compact agree; pruning never changes P(out=1)") {
   for (const auto& sc : {qrm::paper_4x4(), qrm::paper_8x8()}) {
     const qrm::walk_model m(sc, qrm::king_2d());
-    double max_rel_interference = 0;
+    double max_rel_interference = 0, worst_history = 0, worst_backends = 0;
     for (unsigned cell = 0; cell < sc.voxel_count(); ++cell)
       for (int c = 0; c < 3; ++c) {
         const auto start = m.light_map_start(sc.coords(cell));
@@ -39,17 +39,24 @@ TEST_CASE("history circuit equals the classical path sum; pruning never changes 
         o.channel = c;
         const double classical = qrm::path_sum(m, start, 3, c) / 3.0;
         o.variant = qrm::walk_variant::history;
-        const double history = run_dense(qrm::make_walk_program(m, start, o));
-        // Both are sums of at most a few hundred products of O(1) numbers: 1e-12 is the bar.
-        CHECK(std::abs(history - classical) < 1e-12);
+        const auto hist = qrm::make_walk_program(m, start, o);
+        const double history = qrm::compact_probability(hist);
+        worst_history = std::max(worst_history, std::abs(history - classical));
         o.variant = qrm::walk_variant::faithful;
-        const double faithful = run_dense(qrm::make_walk_program(m, start, o));
+        const auto faithful_program = qrm::make_walk_program(m, start, o);
+        const double faithful = run_dense(faithful_program);
+        worst_backends = std::max(worst_backends, std::abs(qrm::compact_probability(faithful_program) - faithful));
         for (qrm::pruning p : {qrm::pruning::none, qrm::pruning::scene}) {
           o.prune = p;
-          CHECK(std::abs(run_dense(qrm::make_walk_program(m, start, o)) - faithful) < 1e-12);
+          CHECK(std::abs(qrm::compact_probability(qrm::make_walk_program(m, start, o)) - faithful) < 1e-12);
         }
         if (classical > 0) max_rel_interference = std::max(max_rel_interference, std::abs(faithful - classical) / classical);
       }
+    // Sums of at most a few hundred products of O(1) numbers, in different orders: 1e-12 is the
+    // issue's bar (measured: ~2e-16).
+    MESSAGE(sc.name() << ": max |history - classical| = " << worst_history << ", max |dense - compact| = " << worst_backends);
+    CHECK(worst_history < 1e-12);
+    CHECK(worst_backends < 1e-12);
     // SPEC.md section 3: the faithful circuit differs from classical transport by up to about
     // 11% of a cell's value on the 4x4 scene and 5% on the 8x8 scene.
     MESSAGE(sc.name() << ": largest |faithful - classical| / classical = " << max_rel_interference);
@@ -202,7 +209,7 @@ TEST_CASE("a 3D walk (golden spiral, fixed-point positions) matches its classica
         o.variant = qrm::walk_variant::history;
         const auto w = qrm::make_walk_program(m, start, o);
         const double classical = qrm::path_sum(m, start, 2, c) / (2.0 * sc.emission_scale(c));
-        CHECK(std::abs(qrm::dense_probability(w) - classical) < 1e-12);
+        CHECK(std::abs(qrm::compact_probability(w) - classical) < 1e-12);
       }
     }
   }

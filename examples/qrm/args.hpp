@@ -10,6 +10,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <initializer_list>
 #include <vector>
 
 namespace qrm_cli {
@@ -38,7 +39,8 @@ class args {
   }
 
   // Declares the flags this command knows; any other flag given is an error.
-  void allow(std::initializer_list<const char*> names) {
+  void allow(std::initializer_list<const char*> names) { allow(std::vector<const char*>(names)); }
+  void allow(const std::vector<const char*>& names) {
     for (const char* n : names) allowed_.insert(n);
     for (const auto& [k, v] : values_)
       if (!allowed_.count(k)) throw usage_error("unknown flag --" + k);

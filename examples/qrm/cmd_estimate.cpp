@@ -9,6 +9,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "estimator_args.hpp"
 
 namespace qrm_cli {
 
@@ -50,11 +51,7 @@ std::string json_string(const std::string& s) {
   return out + "\"";
 }
 
-std::string num(double x) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
+std::string num(double x) { return json_number(x); }
 std::string num(std::uint64_t x) {
   return std::to_string(x);
 }
@@ -73,148 +70,29 @@ int cmd_estimate(args& a) {
     std::fputs(estimate_usage, stdout);
     return 0;
   }
-  const std::string name = a.str("estimator", "fae");
-  static const std::set<std::string> names{"fae", "iqae", "mlae", "canonical", "qcoin", "mc"};
-  if (!names.count(name))
-    fail("--estimator must be one of fae, iqae, mlae, canonical, qcoin, mc; got '" + name + "'");
-
-  // Flags that belong to other estimators are errors, not silently ignored.
-  const std::set<std::string> own = [&]() -> std::set<std::string> {
-    if (name == "fae") return {"delta", "maxiter", "rescale", "no-rescale"};
-    if (name == "iqae") return {"epsilon", "alpha", "shots", "interval"};
-    if (name == "mlae") return {"alpha", "shots", "schedule", "m"};
-    if (name == "canonical") return {"alpha", "shots", "evaluation-qubits"};
-    if (name == "qcoin") return {"alpha", "shots", "steps"};
-    return {"alpha", "shots"};
-  }();
-  for (const char* f : {"delta", "maxiter", "rescale", "no-rescale", "epsilon", "alpha", "shots", "interval",
-                        "schedule", "m", "evaluation-qubits", "steps"})
-    if (a.has(f) && !own.count(f)) fail("--" + std::string(f) + " does not apply to --estimator " + name);
-
   double p = 0;
   std::uint64_t seed = 1;
   std::string format;
   bool exact = false;
+  parsed_estimator est;
   try {
-    if (!a.has("probability")) fail("missing required flag --probability");
+    est = parse_estimator_args(a, "estimate: ");
+    if (!a.has("probability")) fail("estimate: missing required flag --probability");
     p = a.required_number("probability");
-    if (!(p >= 0.0 && p <= 1.0)) fail("--probability must be in [0, 1], got " + a.str("probability", ""));
+    if (!(p >= 0.0 && p <= 1.0)) fail("estimate: --probability must be in [0, 1], got " + a.str("probability", ""));
     seed = static_cast<std::uint64_t>(a.integer("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
     format = a.str("format", "json");
-    if (format != "json" && format != "text") fail("--format must be json or text, got '" + format + "'");
+    if (format != "json" && format != "text") fail("estimate: --format must be json or text, got '" + format + "'");
     exact = a.flag("exact-probabilities");
   } catch (const usage_error& e) {
     if (std::string(e.what()).find("usage:") != std::string::npos) throw;
     fail(e.what());
   }
-
-  auto number_in = [&](const char* flag, double fallback, double lo, double hi, bool open_lo, bool open_hi) {
-    double x = 0;
-    try {
-      x = a.number(flag, fallback);
-    } catch (const usage_error& e) {
-      fail(e.what());
-    }
-    const bool ok = (open_lo ? x > lo : x >= lo) && (open_hi ? x < hi : x <= hi);
-    if (!ok)
-      fail("--" + std::string(flag) + " must be in " + (open_lo ? "(" : "[") + num(lo) + ", " + num(hi) +
-           (open_hi ? ")" : "]") + ", got " + a.str(flag, ""));
-    return x;
-  };
-  auto integer_in = [&](const char* flag, std::int64_t fallback, std::int64_t lo, std::int64_t hi) {
-    try {
-      return a.integer(flag, fallback, lo, hi);
-    } catch (const usage_error& e) {
-      fail(e.what());
-    }
-  };
-  auto word = [&](const char* flag, const std::string& fallback, std::initializer_list<const char*> allowed) {
-    std::string v;
-    try {
-      v = a.str(flag, fallback);
-    } catch (const usage_error& e) {
-      fail(e.what());
-    }
-    std::string list;
-    for (const char* w : allowed) {
-      if (v == w) return v;
-      list += (list.empty() ? "" : ", ") + std::string(w);
-    }
-    fail("--" + std::string(flag) + " must be one of " + list + "; got '" + v + "'");
-  };
-
+  est.settings.exact_probabilities = exact;
   qrm::analytic_oracle oracle(p);
   qrm::rng g(seed);
-  qrm::estimation_result r;
-  std::string options;  // JSON members describing the options used
-  if (name == "fae") {
-    qrm::fae_options o;
-    o.delta = number_in("delta", o.delta, 0.0, 1.0, true, true);
-    o.maxiter = static_cast<unsigned>(integer_in("maxiter", o.maxiter, 1, 40));
-    bool yes = false, no = false;
-    try {
-      yes = a.flag("rescale");
-      no = a.flag("no-rescale");
-    } catch (const usage_error& e) {
-      fail(e.what());
-    }
-    if (yes && no) fail("give either --rescale or --no-rescale, not both");
-    o.rescale = !no;
-    o.exact_probabilities = exact;
-    r = qrm::faster_amplitude_estimation(oracle, o, g);
-    options = "\"delta\":" + num(o.delta) + ",\"maxiter\":" + num(std::uint64_t{o.maxiter}) +
-              ",\"rescale\":" + (o.rescale ? "true" : "false");
-  } else if (name == "iqae") {
-    qrm::iqae_options o;
-    o.epsilon = number_in("epsilon", o.epsilon, 0.0, 0.5, true, false);
-    o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);
-    o.shots = static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots), 1, 1000000000000));
-    o.interval = word("interval", "cp", {"cp", "ch"}) == "cp" ? qrm::iqae_interval::clopper_pearson
-                                                              : qrm::iqae_interval::chernoff_hoeffding;
-    o.exact_probabilities = exact;
-    r = qrm::iterative_amplitude_estimation(oracle, o, g);
-    options = "\"epsilon\":" + num(o.epsilon) + ",\"alpha\":" + num(o.alpha) + ",\"shots_per_round\":" + num(o.shots) +
-              ",\"interval\":\"" + (o.interval == qrm::iqae_interval::clopper_pearson ? "cp" : "ch") + "\"";
-  } else if (name == "mlae") {
-    qrm::mlae_options o;
-    o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);
-    o.shots = static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots), 1, 1000000000000));
-    o.schedule = word("schedule", "exponential", {"exponential", "linear"}) == "linear"
-                     ? qrm::mlae_schedule::linear
-                     : qrm::mlae_schedule::exponential;
-    o.m = static_cast<unsigned>(integer_in("m", o.m, 0, o.schedule == qrm::mlae_schedule::linear ? 256 : 30));
-    o.exact_probabilities = exact;
-    r = qrm::maximum_likelihood_amplitude_estimation(oracle, o, g);
-    options = "\"alpha\":" + num(o.alpha) + ",\"shots_per_power\":" + num(o.shots) + ",\"schedule\":\"" +
-              (o.schedule == qrm::mlae_schedule::linear ? "linear" : "exponential") +
-              "\",\"m\":" + num(std::uint64_t{o.m});
-  } else if (name == "canonical") {
-    qrm::canonical_options o;
-    o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);
-    o.shots = static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots), 1, 1000000000000));
-    o.evaluation_qubits = static_cast<unsigned>(integer_in("evaluation-qubits", o.evaluation_qubits, 1, 12));
-    o.exact_probabilities = exact;
-    r = qrm::canonical_amplitude_estimation(oracle, o, g);
-    options = "\"alpha\":" + num(o.alpha) + ",\"shots\":" + num(o.shots) +
-              ",\"evaluation_qubits\":" + num(std::uint64_t{o.evaluation_qubits});
-  } else if (name == "qcoin") {
-    qrm::qcoin_options o;
-    o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);
-    o.shots_per_step =
-        static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots_per_step), 1, 1000000000000));
-    o.steps = static_cast<unsigned>(integer_in("steps", o.steps, 1, 16));
-    o.exact_probabilities = exact;
-    r = qrm::quantum_coin_estimation(oracle, o, g);
-    options = "\"alpha\":" + num(o.alpha) + ",\"shots_per_step\":" + num(o.shots_per_step) +
-              ",\"steps\":" + num(std::uint64_t{o.steps});
-  } else {
-    qrm::monte_carlo_options o;
-    o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);
-    o.shots = static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots), 1, 1000000000000));
-    o.exact_probabilities = exact;
-    r = qrm::monte_carlo_estimation(oracle, o, g);
-    options = "\"alpha\":" + num(o.alpha) + ",\"shots\":" + num(o.shots);
-  }
+  const qrm::estimation_result r = qrm::estimate_amplitude(oracle, est.settings, g);
+  const std::string& options = est.options_json;
 
   if (format == "text") {
     std::printf("estimator %s, P = %s%s\n", r.estimator.c_str(), num(p).c_str(), exact ? " (exact probabilities)" : "");

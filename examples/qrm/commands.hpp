@@ -16,5 +16,8 @@ int cmd_version(args&);
 int cmd_lightmap(args&);
 int cmd_circuit(args&);
 int cmd_estimate(args&);
+int cmd_render(args&);
+int cmd_merge(args&);
+int cmd_figures(args&);
 
 }  // namespace qrm_cli

@@ -20,6 +20,9 @@ static const command commands[] = {
     {"version", "print the version", cmd_version},
     {"lightmap", "exact light maps of a 2D scene: faithful, history and classical", cmd_lightmap},
     {"circuit", "metrics of one start point's A operator at every pruning level; --qasm FILE exports it", cmd_circuit},
+    {"figures", "the paper's figures (light map, 3D images, convergence, cost) into --out (default figures)", cmd_figures},
+    {"render", "render a scene: 2D light maps (FAE on the simulated circuit) or 3D images (exact, mc, emulated, quantum)", cmd_render},
+    {"merge", "merge the tiles of a render (--parts DIR)", cmd_merge},
     {"estimate", "estimate a Bernoulli amplitude with fae, iqae, mlae, canonical, qcoin or mc", cmd_estimate},
 };
 

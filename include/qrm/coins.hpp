@@ -29,6 +29,7 @@
 namespace qrm {
 
 // lambertian_coin_2d(n): the paper's 8x8 Lambertian coin for normal index n (SPEC.md section 3).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline dense_matrix lambertian_coin_2d(int n) {
   if (n < 0 || n > 7) throw std::invalid_argument("lambertian_coin_2d: normal index must be 0..7, got " + std::to_string(n));
   auto mod8 = [](int v) { return ((v % 8) + 8) % 8; };
@@ -99,6 +100,7 @@ std::vector<std::size_t> snap_permutation(const direction_set& s, F target) {
   return perm;
 }
 
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline dense_matrix permutation_coin(const std::vector<std::size_t>& perm, std::size_t dim) {
   dense_matrix u(dim);
   for (std::size_t d = 0; d < dim; ++d) u(d < perm.size() ? perm[d] : d, d) = 1.0;
@@ -107,12 +109,14 @@ inline dense_matrix permutation_coin(const std::vector<std::size_t>& perm, std::
 }  // namespace detail
 
 // boundary_coin(s): reverse every direction (d -> the direction nearest -d, as a permutation).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline dense_matrix boundary_coin(const direction_set& s) {
   const auto perm = detail::snap_permutation(s, [](const vec3& v) { return vec3{-v[0], -v[1], -v[2]}; });
   return detail::permutation_coin(perm, std::size_t{1} << s.bits());
 }
 
 // specular_coin(s, n): mirror every direction over the plane with unit normal n.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline dense_matrix specular_coin(const direction_set& s, const vec3& normal) {
   const vec3 n = normalized(normal);
   const auto perm = detail::snap_permutation(s, [&](const vec3& v) {
@@ -133,6 +137,7 @@ struct lambertian_split {
 // (e.g. the 15-direction golden spiral), the directions closest to the surface plane (tangent
 // ones first, then the least incoming) are counted as outgoing until it balances. That is
 // reported in grazing_counted_outgoing; antipodal sets never need it.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline lambertian_split split_hemisphere(const direction_set& s, const vec3& normal) {
   const vec3 n = normalized(normal);
   constexpr double eps = 1e-9;
@@ -167,6 +172,7 @@ inline lambertian_split split_hemisphere(const direction_set& s, const vec3& nor
 // outgoing ones; tangent directions and unused register states are left alone; outgoing
 // directions take the remaining orthonormal columns (Gram-Schmidt in index order), as the 2D
 // coin sends outgoing directions back into the surface to stay unitary.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline dense_matrix lambertian_coin(const direction_set& s, const vec3& normal) {
   const lambertian_split sp = split_hemisphere(s, normal);
   const std::size_t dim = std::size_t{1} << s.bits();

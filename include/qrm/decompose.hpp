@@ -103,6 +103,7 @@ namespace detail {
 // rounding of O(1) products (1e-16) and far below the 1e-12 that simulations are checked to.
 inline constexpr double decompose_tolerance = 1e-14;
 
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline gate1 product(const gate1& a, const gate1& b) {  // a * b: b acts first
   gate1 r = gate::u(0.0, 0.0, 0.0, 0.0);
   for (int i = 0; i < 2; ++i)
@@ -110,21 +111,25 @@ inline gate1 product(const gate1& a, const gate1& b) {  // a * b: b acts first
   return r;
 }
 
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline double distance_from_identity(const gate1& g) {
   return std::max({std::abs(g.m[0][0] - 1.0), std::abs(g.m[0][1]), std::abs(g.m[1][0]), std::abs(g.m[1][1] - 1.0)});
 }
 
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline bool is_pauli_x(const gate1& g) {
   return g.m[0][0] == complex{} && g.m[1][1] == complex{} && g.m[0][1] == complex{1.0} && g.m[1][0] == complex{1.0};
 }
 
 // e^{ia} I within the tolerance (a controlled version is a phase on the control).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline bool is_scalar(const gate1& g) {
   return std::abs(g.m[0][1]) <= decompose_tolerance && std::abs(g.m[1][0]) <= decompose_tolerance &&
          std::abs(g.m[0][0] - g.m[1][1]) <= decompose_tolerance;
 }
 
 // Largest |(g^dagger g - I)_ij|.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline double unitarity_error(const gate1& g) {
   double worst = 0;
   for (int i = 0; i < 2; ++i)
@@ -136,6 +141,7 @@ inline double unitarity_error(const gate1& g) {
 }
 
 // A real rotation [[c, -s], [s, c]] = Ry(2 atan2(s, c)) (within the tolerance).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::optional<double> ry_angle(const gate1& g) {
   for (int i = 0; i < 2; ++i)
     for (int j = 0; j < 2; ++j)
@@ -167,6 +173,7 @@ std::optional<std::string> select_problem(std::span<const Entry> entries, std::s
 struct zyz_angles {
   double alpha, beta, gamma, delta;
 };
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline zyz_angles zyz(const gate1& u) {
   const complex det = u.m[0][0] * u.m[1][1] - u.m[0][1] * u.m[1][0];
   const double alpha = std::arg(det) / 2;
@@ -198,6 +205,7 @@ struct two_level {
 };
 
 // U = F_m ... F_1 (F_1 acts first), each F a two-level unitary (N&C section 4.5.1).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::vector<two_level> two_level_factors(const dense_matrix& u) {
   dense_matrix m = u;
   const std::size_t d = m.dim;
@@ -240,6 +248,7 @@ inline std::vector<two_level> two_level_factors(const dense_matrix& u) {
 }
 
 // Pushes g unless it undoes the previous gate (equal multi-controlled X gates cancel).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline void push_local(std::vector<local_gate>& out, local_gate g) {
   if (!out.empty() && !g.conditional && !out.back().conditional && is_pauli_x(g.gate) && is_pauli_x(out.back().gate) &&
       out.back().target == g.target && out.back().controls == g.controls) {
@@ -251,6 +260,7 @@ inline void push_local(std::vector<local_gate>& out, local_gate g) {
 
 // The two-level decomposition of a 2^k x 2^k unitary as multi-controlled single-qubit gates
 // on local qubits 0..k-1 (time order): N&C Fig. 4.16.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::vector<local_gate> two_level_gates(const dense_matrix& u, std::size_t k) {
   std::vector<local_gate> out;
   auto others = [&](qubit_index skip, std::uint64_t state) {
@@ -279,6 +289,7 @@ inline std::vector<local_gate> two_level_gates(const dense_matrix& u, std::size_
 }
 
 // Add c (mod 2^k) on local qubits 0..k-1 (least significant first) as X cascades: rule 5.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::vector<local_gate> add_gates(std::int64_t constant, std::size_t k) {
   if (k == 0 || k > 62) throw std::invalid_argument("decompose: add needs 1..62 qubits, got " + std::to_string(k));
   const std::uint64_t mask = (std::uint64_t{1} << k) - 1;
@@ -306,6 +317,7 @@ inline std::vector<local_gate> add_gates(std::int64_t constant, std::size_t k) {
 
 // Walsh-Hadamard-type transform of the uniformly controlled Ry (rule 6): the Ry angles
 // theta_i to interleave with CNOTs controlled by select bit cnot_bit(i), for entry angles alpha.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::vector<double> mottonen_angles(std::vector<double> alpha) {
   const std::size_t n = alpha.size();
   for (std::size_t h = 1; h < n; h <<= 1)  // in-place fast Walsh-Hadamard: w[x] = sum_s (-1)^{s.x} alpha[s]
@@ -321,6 +333,7 @@ inline std::vector<double> mottonen_angles(std::vector<double> alpha) {
 }
 // The select bit whose CNOT follows rotation i: the bit where gray(i) and gray(i+1) differ
 // (the top bit after the last rotation, closing the cycle).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline unsigned mottonen_cnot_bit(std::size_t i, std::size_t n, unsigned m) {
   return i + 1 == n ? m - 1 : static_cast<unsigned>(std::countr_zero(i + 1));
 }
@@ -742,6 +755,7 @@ class lowerer {
 
 // decompose(p): an equivalent program of single-qubit gates and CNOTs (rules in the header
 // comment), with clean ancillas appended after p's qubits.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline decomposition_result decompose(const program& p, decompose_options options = {}) {
   detail::lowerer l(p.width(), options);
   for (std::size_t i = 0; i < p.ops().size(); ++i) l.lower(p.ops()[i], i);
@@ -760,6 +774,7 @@ struct decomposed_counts {
 };
 
 // decomposed_metrics(p): the cost of p on hardware with single-qubit gates and CNOTs.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline decomposed_counts decomposed_metrics(const program& p, decompose_options options = {}) {
   const decomposition_result d = decompose(p, options);
   decomposed_counts c;

@@ -31,6 +31,7 @@ struct circuit_metrics {
 
 namespace detail {
 // Name of a single-qubit gate with c controls: "x", "cx", "mcx", "ry", "c-ry", "mc-ry", ...
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::string controlled_name(const std::string& base, std::size_t controls) {
   if (controls == 0) return base;
   if (base == "x") return controls == 1 ? "cx" : "mcx";
@@ -40,6 +41,7 @@ inline std::string controlled_name(const std::string& base, std::size_t controls
 }  // namespace detail
 
 // measure(p): the metrics of program p.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline circuit_metrics measure(const program& p) {
   circuit_metrics m;
   m.width = p.width();

@@ -75,6 +75,7 @@ namespace detail {
 // ---- export ---------------------------------------------------------------------------------
 
 // 17 significant digits: parsing the text gives back the same double.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::string qasm_number(double v) {
   if (!std::isfinite(v)) throw std::invalid_argument("to_qasm: a gate angle is not finite (" + std::to_string(v) + ")");
   char buf[64];
@@ -83,6 +84,7 @@ inline std::string qasm_number(double v) {
 }
 
 // A value in a message: like qasm_number, and "nan" / "inf" / "-inf" for the rest.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::string qasm_value_text(double v) {
   if (std::isnan(v)) return "nan";
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
@@ -94,6 +96,7 @@ inline std::string qasm_value_text(double v) {
 struct u_angles {
   double theta, phi, lambda, gamma;
 };
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline u_angles qasm_u_angles(const gate1& g) {
   const complex m00 = g.m[0][0], m01 = g.m[0][1], m10 = g.m[1][0], m11 = g.m[1][1];
   u_angles a{};
@@ -106,6 +109,7 @@ inline u_angles qasm_u_angles(const gate1& g) {
 }
 // e^{i (phi + lambda)} is formed as a product: for large angles phi + lambda rounds (by 0.25 at
 // 3e15) and the matrix would not be unitary.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline gate1 qasm_u_matrix(double theta, double phi, double lambda) {
   const double c = std::cos(theta / 2), s = std::sin(theta / 2);
   const complex ep = std::polar(1.0, phi), el = std::polar(1.0, lambda);
@@ -118,6 +122,7 @@ struct qasm_gate1 {
   std::string call;
   double phase = 0;  // gphase to add under the same controls
 };
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline qasm_gate1 qasm_form(const gate1& g) {
   auto same = [&](const gate1& ref) {
     for (int i = 0; i < 2; ++i)
@@ -230,6 +235,7 @@ struct qasm_definitions {
   }
 };
 
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::vector<control> qasm_entry_controls(std::uint64_t select, std::span<const qubit_index> sel,
                                                 std::span<const control> cs) {
   std::vector<control> r;
@@ -238,6 +244,7 @@ inline std::vector<control> qasm_entry_controls(std::uint64_t select, std::span<
   return r;
 }
 
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline void qasm_check_gate(const gate1& g, std::size_t op_index) {
   const double e = unitarity_error(g);
   if (!(e <= 1e-9))
@@ -245,6 +252,7 @@ inline void qasm_check_gate(const gate1& g, std::size_t op_index) {
                                 ": the 2x2 matrix is not unitary (|U^dagger U - I| = " + std::to_string(e) + ")");
 }
 
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::string qasm_header(const program& p, const qasm_options& o, const char* form) {
   std::string s = "OPENQASM 3.0;\ninclude \"stdgates.inc\";\n";
   if (o.comments) {
@@ -260,6 +268,7 @@ inline std::string qasm_header(const program& p, const qasm_options& o, const ch
   return s;
 }
 
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::string to_qasm_logical(const program& p, const qasm_options& o) {
   qasm_definitions defs;
   std::string body;
@@ -321,6 +330,7 @@ inline std::string to_qasm_logical(const program& p, const qasm_options& o) {
   return qasm_header(p, o, "logical form: one line per gate, multiplexed gates one line per entry") + defs.text + body;
 }
 
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::string to_qasm_decomposed(const program& p, const qasm_options& o) {
   const decomposition_result d = decompose(p, o.decomposition);
   const std::size_t n = p.width();
@@ -1146,12 +1156,14 @@ class qasm_parser {
 }  // namespace detail
 
 // to_qasm(p): p as an OpenQASM 3 program (the forms are described at the top of this header).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::string to_qasm(const program& p, qasm_options options = {}) {
   return options.decomposed ? detail::to_qasm_decomposed(p, options) : detail::to_qasm_logical(p, options);
 }
 
 // from_qasm(text): the program an OpenQASM 3 text describes (the subset is listed at the top
 // of this header); throws qrm::qasm_error naming the line, the column and what was expected.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline program from_qasm(std::string_view text) { return detail::qasm_parser(text).parse(); }
 
 }  // namespace qrm

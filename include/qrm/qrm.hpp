@@ -38,6 +38,7 @@
 //   estimation/canonical.hpp    canonical QPE-based amplitude estimation (Brassard et al.) + MLE
 //   estimation/qcoin.hpp        quantum coin method (Shimada and Hachisuka 2020)
 //   estimation/monte_carlo.hpp  classical Monte Carlo baseline on the same oracle
+//   estimation/estimator.hpp    choosing an estimator at run time: estimator_settings, estimate_amplitude
 // Rendering (3D)
 //   render/voxelize.hpp  surface voxelization (rectangles, boxes, spheres): cornell_box, two_spheres
 //   render/camera.hpp    pinhole camera: rays through pixel centres or jittered within pixels
@@ -45,6 +46,9 @@
 //   render/image.hpp     RGB float image tiles and their bit-exact merge, RMSE
 //   render/render_classical.hpp  images on the walk's discretization: exact path sum, Monte Carlo,
 //                        the paper's emulator (enumerate all paths, sample K); threads and tiles
+//   render/quantum.hpp   with the circuit: estimated light maps (FAE on the simulated circuit), fully
+//                        quantum 3D images, the amplitude-estimation hook for the emulator
+//   render/experiments.hpp  convergence (error vs estimates) and cost (error vs time) studies
 // Output
 //   io/image.hpp         linear-RGB float images: tone mapping to sRGB, upsampling, error maps, stats
 //   io/png.hpp           PNG writer (8-bit RGB/grey, stored deflate), crc32, adler32
@@ -87,6 +91,8 @@
 #include "render/dda.hpp"
 #include "render/image.hpp"
 #include "render/render_classical.hpp"
+#include "render/quantum.hpp"
+#include "render/experiments.hpp"
 
 #include "estimation/problem.hpp"
 #include "estimation/grover.hpp"
@@ -98,6 +104,7 @@
 #include "estimation/canonical.hpp"
 #include "estimation/qcoin.hpp"
 #include "estimation/monte_carlo.hpp"
+#include "estimation/estimator.hpp"
 
 #include "io/image.hpp"
 #include "io/png.hpp"

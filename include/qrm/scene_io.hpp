@@ -285,6 +285,7 @@ class scene_parser {
   std::map<std::string, rgb> colors_;
 };
 
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::string format_double(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -293,11 +294,13 @@ inline std::string format_double(double v) {
 }  // namespace detail
 
 // parse_scene(text, source): a scene from the text format; `source` names it in errors.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline scene parse_scene(std::string_view text, const std::string& source = "scene") {
   return detail::scene_parser(text, source).parse();
 }
 
 // load_scene(path): read and parse a scene file.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline scene load_scene(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   if (!f) throw scene_parse_error(path + ": cannot open the scene file");
@@ -308,6 +311,7 @@ inline scene load_scene(const std::string& path) {
 
 // format_scene(s): the scene in the text format, one voxel line per non-default voxel
 // (lossless: numbers are written with 17 significant digits).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::string format_scene(const scene& s) {
   using detail::format_double;
   std::string out = "qrm-scene 1\nname " + (s.name().empty() ? std::string("unnamed") : s.name()) + "\ndims " +

@@ -74,6 +74,7 @@ struct walk_qubits {
 constexpr std::size_t steps_register_bits(std::size_t terms) { return bits_for(terms); }
 
 // make_walk_qubits(...): the register order documented above, for run-time sizes.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline walk_qubits make_walk_qubits(unsigned dims, unsigned position_bits, unsigned fractional_bits,
                                     unsigned direction_bits, unsigned steps, walk_variant variant) {
   if (steps < 1) throw std::invalid_argument("walk: steps must be at least 1");
@@ -125,6 +126,7 @@ namespace detail {
 // than as cos and sin of the angle: v = 1 (a white reflectance, an emission equal to the scale)
 // then gives exactly |1>, not |1> plus a 6e-17 |0> branch. Such branches are invisible in P(out=1)
 // but the compact backend stores them, and they doubled its support at every step through air.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline gate1 sample_rotation(double v) {
   const double clipped = std::min(1.0, std::max(0.0, v));
   gate1 g = gate::ry(2.0 * std::asin(std::sqrt(clipped)));

@@ -96,6 +96,7 @@ using rgb3 = std::array<double, 3>;
 
 // hit_walk_start(model, hit, ray_direction): the walk's start for a camera ray's first hit (see
 // the file comment for the direction).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline walk_start hit_walk_start(const walk_model& m, const voxel_hit& h, const vec3& ray_direction) {
   if (!h.hit) throw std::invalid_argument("hit_walk_start: the ray hit nothing");
   const vec3 d = normalized(ray_direction);
@@ -128,9 +129,11 @@ struct pixel_start {
 }  // namespace qrm::render
 
 namespace qrm::detail {
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline void check_render_model(const walk_model& m, const char* what) {
   if (m.dims() != 3) throw std::invalid_argument(std::string(what) + ": the walk model's scene is not 3D");
 }
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline unsigned threads_or_hardware(unsigned t) {
   return t ? t : std::max(1u, std::thread::hardware_concurrency());
 }
@@ -140,6 +143,7 @@ namespace qrm::render {
 
 // pixel_starts(model, camera, part, threads): the first hit and walk start of every pixel of a
 // tile; entry k is pixel tile_pixels(...).begin + k.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::vector<pixel_start> pixel_starts(const walk_model& m, const camera& cam, tile part = {},
                                              unsigned threads = 0) {
   qrm::detail::check_render_model(m, "pixel_starts");
@@ -161,6 +165,7 @@ inline std::vector<pixel_start> pixel_starts(const walk_model& m, const camera& 
 // each channel's value is bit-identical to qrm::path_sum's: the walker states are kept in a
 // vector sorted by state (qrm::path_sum's std::map order) and contributions to one state are
 // added in the order the map would receive them (a stable sort keeps generation order).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline rgb3 path_sum_rgb(const qrm::detail::transition_table& t, const walk_start& start, unsigned steps) {
   const walk_model& m = t.model();
   struct entry {
@@ -213,6 +218,7 @@ struct monte_carlo_rgb {
 // monte_carlo_rgb_walk(tables, start, steps, paths, g): qrm::monte_carlo for all three channels
 // with one set of paths; each channel's result is bit-identical to qrm::monte_carlo's with a
 // generator in the same state (the channels share the paths, as a spectral path tracer would).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline monte_carlo_rgb monte_carlo_rgb_walk(const qrm::detail::transition_table& t, const walk_start& start, unsigned steps,
                                             std::uint64_t paths, rng& g) {
   if (paths == 0) throw std::invalid_argument("monte_carlo: paths must be positive");
@@ -306,6 +312,7 @@ struct path_set {
 // enumerate_paths(model or tables, start, steps, path_budget): every branching path, depth
 // first in coin order. Exponential in steps: throws std::length_error, naming the budget, as
 // soon as there are more than path_budget paths.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline path_set enumerate_paths(const qrm::detail::transition_table& t, const walk_start& start, unsigned steps,
                                 std::size_t path_budget = std::size_t{1} << 20) {
   const walk_model& m = t.model();
@@ -346,6 +353,7 @@ inline path_set enumerate_paths(const qrm::detail::transition_table& t, const wa
   for (std::size_t k = 0; k < ps.size(); ++k) ps.cumulative[k] = acc += ps.probability[k];
   return ps;
 }
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline path_set enumerate_paths(const walk_model& m, const walk_start& start, unsigned steps,
                                 std::size_t path_budget = std::size_t{1} << 20) {
   return enumerate_paths(qrm::detail::transition_table(m), start, steps, path_budget);
@@ -368,6 +376,7 @@ struct render_start_groups {
   std::vector<std::pair<std::size_t, int>> keys;  // (voxel index, direction)
   std::vector<std::size_t> key_of_pixel;          // per pixel of the tile; unused for misses
 };
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline render_start_groups group_render_starts(const std::vector<render::pixel_start>& px) {
   render_start_groups g;
   for (const render::pixel_start& p : px)
@@ -382,6 +391,7 @@ inline render_start_groups group_render_starts(const std::vector<render::pixel_s
           g.keys.begin());
   return g;
 }
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline walk_start render_start_of(const scene& sc, const std::pair<std::size_t, int>& key) {
   walk_start s;
   s.voxel = sc.coords(key.first);
@@ -389,6 +399,7 @@ inline walk_start render_start_of(const scene& sc, const std::pair<std::size_t, 
   return s;
 }
 // Le + rho * value, per channel, into pixel p.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline void shade_pixel(render::image& img, std::size_t p, const voxel& v, const render::rgb3& value) {
   for (int c = 0; c < 3; ++c)
     img.pixels()[p].channel(c) =
@@ -399,6 +410,7 @@ inline void shade_pixel(render::image& img, std::size_t p, const voxel& v, const
 namespace qrm::render {
 
 // render_exact(model, camera, options): every pixel's exact radiance (the path sum).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline image render_exact(const walk_model& m, const camera& cam, const render_options& o = {}) {
   const unsigned threads = qrm::detail::threads_or_hardware(o.threads);
   const auto px = pixel_starts(m, cam, o.part, threads);
@@ -424,6 +436,7 @@ struct monte_carlo_image {
 // render_monte_carlo(model, camera, paths, seed, options): `paths` random walks per pixel
 // (qrm::monte_carlo's walk, all channels on the same paths), pixel p seeded with
 // rng::stream(seed, p).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline monte_carlo_image render_monte_carlo(const walk_model& m, const camera& cam, std::uint64_t paths,
                                             std::uint64_t seed, const render_options& o = {}) {
   if (paths == 0) throw std::invalid_argument("render_monte_carlo: paths per pixel must be positive");
@@ -467,6 +480,7 @@ struct emulated_image {
 // render_emulated(model, camera, emulation, options): the paper's emulator: per pixel, every
 // branching path from its walk start is enumerated, K of them are drawn by probability with
 // rng::stream(seed, pixel), and their mean contribution (or `estimate`) gives the pixel.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline emulated_image render_emulated(const walk_model& m, const camera& cam, const emulation_options& e,
                                       const render_options& o = {}) {
   if (e.paths_per_pixel == 0) throw std::invalid_argument("render_emulated: paths per pixel must be positive");

@@ -1,0 +1,339 @@
+// examples/qrm/render_job.hpp: what `qrm render` and `qrm figures` share: the render settings,
+// the 2D light-map and 3D image jobs, their outputs (PNG for viewing, PFM for linear values,
+// CSV/JSON for numbers), and tiles that `qrm merge` puts back together.
+#pragma once
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <qrm/directions.hpp>
+#include <qrm/io/atomic_file.hpp>
+#include <qrm/io/csv.hpp>
+#include <qrm/io/image.hpp>
+#include <qrm/io/pfm.hpp>
+#include <qrm/io/png.hpp>
+#include <qrm/io/progress.hpp>
+#include <qrm/render/quantum.hpp>
+#include <qrm/render/render_classical.hpp>
+#include <qrm/render/voxelize.hpp>
+#include <qrm/walk_model.hpp>
+
+#include "args.hpp"
+#include "estimator_args.hpp"
+#include "scene_arg.hpp"
+
+namespace qrm_cli {
+
+namespace fs = std::filesystem;
+
+struct render_settings {
+  std::string scene = "paper_8x8";
+  unsigned width = 128, height = 128;  // 3D images
+  unsigned voxels = 8;                 // 3D built-in scenes: N^3 voxels
+  unsigned directions = 15;            // 3D: golden spiral (the authors' 15) or 6/14/26 cube sets
+  unsigned fractional_bits = 3;        // 3D: sub-voxel position bits (the authors used 3)
+  unsigned steps = 0;                  // 0: 3 in 2D (the paper), 6 in 3D
+  std::size_t paths = 32;              // 3D: paths per pixel (emulated, Monte Carlo)
+  std::string methods = "all";         // 3D: exact, mc, emulated, quantum, all (= exact,mc,emulated)
+  qrm::estimator_settings estimator;   // default FAE, maxiter 5, rescaling
+  std::string estimator_json;
+  // simulated: every Grover iteration applied to the state; analytic: P(out=1) read once from
+  // the simulated state, then the sin^2 law (the same measurement statistics, tested). Default:
+  // simulated for 2D light maps, analytic for 3D images (one 3D walk state takes ~30 ms).
+  std::string grover = "auto";
+  qrm::render::grover_mode grover_for(unsigned dims) const {
+    if (grover == "simulated" || (grover == "auto" && dims == 2)) return qrm::render::grover_mode::simulated;
+    return qrm::render::grover_mode::analytic;
+  }
+  std::uint64_t seed = 1;
+  std::string out = "out";
+  qrm::render::tile part{};
+  unsigned threads = 0;
+  bool quiet = false;
+  float exposure = 1.0f;
+
+  unsigned effective_steps(unsigned dims) const { return steps ? steps : (dims == 2 ? 3u : 6u); }
+  bool tiled() const { return part.count > 1; }
+};
+
+// The flags `qrm render` takes (estimator flags too).
+inline std::vector<const char*> render_flags() {
+  std::vector<const char*> f = {"scene",  "width", "height", "voxels", "directions", "fractional-bits",
+                                "steps",  "paths", "method", "grover", "seed",       "out",
+                                "tile",   "threads", "quiet", "exposure"};
+  for (const char* e : estimator_flags) f.push_back(e);
+  return f;
+}
+
+inline qrm::render::tile parse_tile(const std::string& v) {
+  const auto slash = v.find('/');
+  auto bad = [&] { return usage_error("--tile must be i/n with 0 <= i < n (e.g. 0/4), got '" + v + "'"); };
+  if (slash == std::string::npos) throw bad();
+  try {
+    std::size_t used = 0;
+    const long i = std::stol(v.substr(0, slash), &used);
+    if (used != slash) throw bad();
+    const std::string rest = v.substr(slash + 1);
+    const long n = std::stol(rest, &used);
+    if (used != rest.size() || n < 1 || i < 0 || i >= n || n > 100000) throw bad();
+    return {static_cast<unsigned>(i), static_cast<unsigned>(n)};
+  } catch (const std::logic_error&) {
+    throw bad();
+  }
+}
+
+inline render_settings parse_render_settings(args& a) {
+  render_settings s;
+  s.scene = a.str("scene", s.scene);
+  s.width = static_cast<unsigned>(a.integer("width", s.width, 1, 8192));
+  s.height = static_cast<unsigned>(a.integer("height", s.height, 1, 8192));
+  s.voxels = static_cast<unsigned>(a.integer("voxels", s.voxels, 4, 256));
+  if ((s.voxels & (s.voxels - 1)) != 0)
+    throw usage_error("--voxels must be a power of two (the walk's position registers), got " + a.str("voxels", ""));
+  s.directions = static_cast<unsigned>(a.integer("directions", s.directions, 6, 256));
+  s.fractional_bits = static_cast<unsigned>(a.integer("fractional-bits", s.fractional_bits, 1, 8));
+  s.steps = static_cast<unsigned>(a.integer("steps", 0, 1, 16));
+  s.paths = static_cast<std::size_t>(a.integer("paths", 32, 1, 1 << 24));
+  s.methods = a.str("method", s.methods);
+  {
+    std::stringstream ss(s.methods);
+    for (std::string m; std::getline(ss, m, ',');)
+      if (m != "exact" && m != "mc" && m != "emulated" && m != "quantum" && m != "all")
+        throw usage_error("--method must be a comma-separated list of exact, mc, emulated, quantum or all; got '" + m +
+                          "'");
+  }
+  s.grover = a.str("grover", "auto");
+  if (s.grover != "auto" && s.grover != "simulated" && s.grover != "analytic")
+    throw usage_error("--grover must be simulated, analytic or auto, got '" + s.grover + "'");
+  s.seed = static_cast<std::uint64_t>(a.integer("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
+  s.out = a.str("out", s.out);
+  if (a.has("tile")) s.part = parse_tile(a.str("tile", ""));
+  s.threads = static_cast<unsigned>(a.integer("threads", 0, 0, 1024));
+  s.quiet = a.flag("quiet");
+  s.exposure = static_cast<float>(a.number("exposure", 1.0));
+  if (!(s.exposure > 0)) throw usage_error("--exposure must be positive, got " + a.str("exposure", ""));
+  const parsed_estimator e = parse_estimator_args(a, "", "fae", "ae-steps");
+  s.estimator = e.settings;
+  s.estimator_json = "{\"estimator\":\"" + std::string(qrm::estimator_name(e.settings.kind)) + "\"," + e.options_json + "}";
+  return s;
+}
+
+inline bool wants(const render_settings& s, const std::string& method) {
+  std::stringstream ss(s.methods);
+  for (std::string m; std::getline(ss, m, ',');)
+    if (m == method || (m == "all" && method != "quantum")) return true;
+  return false;
+}
+
+// The scene a --scene value names: built-in 2D scenes, the 3D Cornell box and two spheres (at
+// --voxels), or a scene file.
+inline qrm::scene load_render_scene(const render_settings& s) {
+  if (s.scene == "cornell") return qrm::render::cornell_box(s.voxels);
+  if (s.scene == "spheres") return qrm::render::two_spheres(s.voxels);
+  return scene_from_arg(s.scene);
+}
+
+// ---- outputs ----------------------------------------------------------------------------------
+
+inline std::string tile_suffix(const render_settings& s) {
+  return s.tiled() ? ".part-" + std::to_string(s.part.index) + "-of-" + std::to_string(s.part.count) : std::string();
+}
+
+// An image result: the PFM (linear values) always; a PNG for viewing unless this is a tile
+// (tiles are merged first). `block` enlarges small maps with visible cells.
+inline void write_image(const render_settings& s, const std::string& base, const qrm::io::image& img,
+                        std::vector<std::string>& written, std::size_t block = 1) {
+  const fs::path dir(s.out);
+  qrm::io::write_pfm(dir / (base + tile_suffix(s) + ".pfm"), img);
+  written.push_back(base + tile_suffix(s) + ".pfm");
+  if (s.tiled()) return;
+  qrm::io::tone_map tm;
+  tm.exposure = s.exposure;
+  const qrm::io::image shown = block > 1 ? qrm::io::upsample_nearest(img, block) : img;
+  qrm::io::write_png(dir / (base + ".png"), shown, tm);
+  written.push_back(base + ".png");
+}
+
+// A tile's manifest: the command line that made it, and the tile.
+inline void write_manifest(const render_settings& s, const std::string& kind, const std::vector<std::string>& bases,
+                           const std::string& settings_text) {
+  std::string j = "{\"kind\":\"" + kind + "\",\"tile\":" + std::to_string(s.part.index) +
+                  ",\"tiles\":" + std::to_string(s.part.count) + ",\"settings\":" + settings_text + ",\"images\":[";
+  for (std::size_t i = 0; i < bases.size(); ++i) j += std::string(i ? "," : "") + "\"" + bases[i] + "\"";
+  j += "]}\n";
+  qrm::io::write_file_atomically(fs::path(s.out) / ("manifest" + tile_suffix(s) + ".json"), j);
+}
+
+inline std::string settings_json(const render_settings& s, const qrm::scene& sc, unsigned steps) {
+  std::string j = "{\"scene\":\"" + sc.name() + "\",\"dims\":" + std::to_string(sc.dims()) + ",\"size\":" +
+                  std::to_string(sc.size()) + ",\"steps\":" + std::to_string(steps) + ",\"seed\":" + std::to_string(s.seed);
+  if (sc.dims() == 3)
+    j += ",\"width\":" + std::to_string(s.width) + ",\"height\":" + std::to_string(s.height) +
+         ",\"directions\":" + std::to_string(s.directions) + ",\"fractional_bits\":" + std::to_string(s.fractional_bits) +
+         ",\"paths\":" + std::to_string(s.paths) + ",\"methods\":\"" + s.methods + "\"";
+  j += ",\"grover\":\"" + std::string(s.grover_for(sc.dims()) == qrm::render::grover_mode::simulated ? "simulated" : "analytic") +
+       "\",\"estimator\":" + s.estimator_json + "}";
+  return j;
+}
+
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// ---- 2D: the light map (the paper's Fig. 4) -----------------------------------------------
+
+struct lightmap_summary {
+  std::size_t cell_channels = 0, inside_interval = 0;
+  double rmse_vs_exact = 0, rmse_vs_classical = 0, max_interference = 0;
+  std::uint64_t a_calls = 0;
+  double seconds = 0;
+  std::vector<std::string> written;
+};
+
+// The difference and upsampled images (after merging, for tiled renders).
+inline void write_lightmap_figures(const render_settings& s, const std::string& base,
+                                   const qrm::render::lightmap_images& maps, std::vector<std::string>& written) {
+  const fs::path dir(s.out);
+  const std::size_t block = std::max<std::size_t>(1, 256 / maps.estimated.width());
+  const qrm::io::image diff = qrm::io::absolute_difference(maps.estimated, maps.classical);
+  qrm::io::write_pfm(dir / (base + "_difference.pfm"), diff);
+  qrm::io::write_png(dir / (base + "_difference.png"), qrm::io::upsample_nearest(qrm::io::false_colour(diff), block));
+  qrm::io::tone_map tm;
+  tm.exposure = s.exposure;
+  qrm::io::write_png(dir / (base + "_upsampled.png"),
+                     qrm::io::upsample_bilinear(maps.estimated, 256, 256 * maps.estimated.height() / maps.estimated.width()), tm);
+  written.push_back(base + "_difference.png");
+  written.push_back(base + "_upsampled.png");
+}
+
+inline lightmap_summary render_lightmap(const render_settings& s, const qrm::scene& sc) {
+  const unsigned steps = s.effective_steps(2);
+  const qrm::walk_model model(sc, qrm::king_2d());
+  qrm::render::quantum_options o;
+  o.steps = steps;
+  o.estimator = s.estimator;
+  o.grover = s.grover_for(2);
+  o.seed = s.seed;
+  o.threads = s.threads;
+  o.part = s.part;
+  const auto range = qrm::render::tile_pixels(sc.voxel_count(), s.part);
+  qrm::io::progress_options po;
+  po.quiet = s.quiet;
+  qrm::io::progress bar("light map " + sc.name(), (range.end - range.begin) * 3, po);
+  o.done = [&](std::size_t) { bar.advance(); };
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto cells = qrm::render::estimate_lightmap(model, o);
+  lightmap_summary out;
+  out.seconds = seconds_since(t0);
+  bar.finish();
+
+  qrm::io::table t({"scene", "x", "y", "channel", "estimate", "interval_lo", "interval_hi", "exact", "classical",
+                    "radiance_scale", "a_calls", "grover_calls"});
+  double se = 0, sc2 = 0;
+  for (const auto& q : cells) {
+    if (!q.computed) continue;
+    const auto xy = sc.coords(q.index);
+    t.add_row({sc.name(), xy[0], xy[1], q.channel, q.estimate, q.interval[0], q.interval[1], q.exact, q.classical,
+               q.radiance_scale, q.a_calls, q.grover_calls});
+    ++out.cell_channels;
+    out.inside_interval += q.exact >= q.interval[0] && q.exact <= q.interval[1];
+    se += std::pow((q.estimate - q.exact) * q.radiance_scale, 2);
+    sc2 += std::pow((q.estimate - q.classical) * q.radiance_scale, 2);
+    if (q.classical > 0) out.max_interference = std::max(out.max_interference, std::abs(q.exact - q.classical) / q.classical);
+    out.a_calls += q.a_calls;
+  }
+  out.rmse_vs_exact = std::sqrt(se / std::max<std::size_t>(1, out.cell_channels));
+  out.rmse_vs_classical = std::sqrt(sc2 / std::max<std::size_t>(1, out.cell_channels));
+  const fs::path dir(s.out);
+  const std::string base = sc.name() + "_lightmap";
+  qrm::io::write_csv(dir / (base + tile_suffix(s) + ".csv"), t);
+  out.written.push_back(base + tile_suffix(s) + ".csv");
+  const auto maps = qrm::render::lightmap_as_images(sc, cells);
+  const std::size_t block = std::max<std::size_t>(1, 256 / sc.size());
+  write_image(s, base + "_estimated", maps.estimated, out.written, block);
+  write_image(s, base + "_exact", maps.exact, out.written, block);
+  write_image(s, base + "_classical", maps.classical, out.written, block);
+  if (s.tiled()) {
+    write_manifest(s, "lightmap", {base + "_estimated", base + "_exact", base + "_classical"}, settings_json(s, sc, steps));
+  } else {
+    write_lightmap_figures(s, base, maps, out.written);
+  }
+  return out;
+}
+
+// ---- 3D images -------------------------------------------------------------------------------
+
+struct image3d_summary {
+  std::map<std::string, double> seconds, rmse_vs_exact;
+  std::size_t distinct_starts = 0;
+  std::vector<std::string> written;
+};
+
+inline image3d_summary render_images_3d(const render_settings& s, const qrm::scene& sc) {
+  const unsigned steps = s.effective_steps(3);
+  const qrm::walk_model model(sc, qrm::sphere_directions(s.directions, s.fractional_bits));
+  const qrm::render::camera cam = qrm::render::box_scene_camera(sc.size(), s.width, s.height);
+  qrm::render::render_options ro;
+  ro.steps = steps;
+  ro.threads = s.threads;
+  ro.part = s.part;
+  image3d_summary out;
+  const std::string base = sc.name();
+  std::vector<std::string> bases;
+  std::vector<std::string> wanted;
+  for (const char* m : {"exact", "mc", "emulated", "quantum"})
+    if (wants(s, m)) wanted.push_back(m);
+  qrm::io::progress_options po;
+  po.quiet = s.quiet;
+  qrm::io::progress bar("render " + base, wanted.size(), po);
+  qrm::io::image exact;
+  for (const std::string& m : wanted) {
+    const auto t0 = std::chrono::steady_clock::now();
+    qrm::io::image img;
+    if (m == "exact") {
+      img = exact = qrm::render::render_exact(model, cam, ro);
+    } else if (m == "mc") {
+      const auto mc = qrm::render::render_monte_carlo(model, cam, s.paths, s.seed, ro);
+      img = mc.mean;
+      write_image(s, base + "_mc_standard_error", mc.standard_error, out.written);
+      bases.push_back(base + "_mc_standard_error");
+    } else if (m == "emulated") {
+      qrm::render::emulation_options e;
+      e.paths_per_pixel = s.paths;
+      e.seed = s.seed;
+      e.estimate = qrm::render::amplitude_path_estimator(s.estimator);
+      img = qrm::render::render_emulated(model, cam, e, ro).sampled;
+    } else {
+      qrm::render::quantum_options q;
+      q.steps = steps;
+      q.estimator = s.estimator;
+      q.grover = s.grover_for(3);
+      q.seed = s.seed;
+      q.threads = s.threads;
+      q.part = s.part;
+      const auto qi = qrm::render::render_quantum(model, cam, q);
+      img = qi.estimated;
+      out.distinct_starts = qi.distinct_starts;
+      write_image(s, base + "_quantum_exact", qi.exact, out.written);
+      bases.push_back(base + "_quantum_exact");
+    }
+    out.seconds[m] = seconds_since(t0);
+    write_image(s, base + "_" + m, img, out.written);
+    bases.push_back(base + "_" + m);
+    if (!exact.empty() && m != "exact" && !s.tiled()) out.rmse_vs_exact[m] = qrm::io::rmse(img, exact);
+    bar.advance();
+  }
+  bar.finish();
+  if (s.tiled()) write_manifest(s, "images", bases, settings_json(s, sc, steps));
+  return out;
+}
+
+}  // namespace qrm_cli

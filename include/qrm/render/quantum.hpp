@@ -1,0 +1,245 @@
+// qrm/render/quantum.hpp: rendering with the quantum circuit.
+//
+//   estimate_lightmap   the paper's Fig. 4: for every cell and channel of a 2D scene, the faithful
+//                       A operator is simulated and its P(out = 1) estimated with an amplitude
+//                       estimator (the paper: FAE, maxiter 5, rescaling). With grover_mode::simulated
+//                       every Grover iteration is applied to the state (compact backend); with
+//                       grover_mode::analytic, a = P(out=1) is read once and P after k iterations
+//                       is sin^2((2k+1) theta): the same measurement statistics, far cheaper.
+//   render_quantum      a 3D image from the actual 3D walk circuit of each pixel's first hit,
+//                       simulated on the compact backend (the paper found this infeasible with a
+//                       general simulator and emulated it instead).
+//   amplitude_path_estimator  the hook that makes render_emulated (the paper's emulator) estimate
+//                       mean(f) / (S * scale) with an amplitude estimator, as the paper did.
+//
+// Results are per (cell or start, channel) with a random stream of their own, so they are
+// bit-identical for any thread count and for any tiling.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "../backends/compact.hpp"
+#include "../classical.hpp"
+#include "../detail/parallel.hpp"
+#include "../estimation/estimator.hpp"
+#include "../estimation/oracle.hpp"
+#include "../estimation/problem.hpp"
+#include "../lightmap.hpp"
+#include "../walk.hpp"
+#include "image.hpp"
+#include "render_classical.hpp"
+
+namespace qrm::render {
+
+enum class grover_mode : unsigned char { simulated, analytic };
+
+struct quantum_options {
+  unsigned steps = 3;
+  estimator_settings estimator;  // default: FAE, maxiter 5, rescaling (the paper's choice)
+  grover_mode grover = grover_mode::simulated;
+  std::uint64_t seed = 1;
+  unsigned threads = 0;                    // 0: the hardware's; results do not depend on it
+  tile part{};                             // only these cells / pixels
+  std::function<void(std::size_t)> done;  // called after each job (e.g. a progress bar), from any thread
+};
+
+// One cell (or walk start) and channel: the estimate of the faithful circuit's P(out = 1), the
+// exact value read from the simulated state, and the classical path sum on the same scale.
+struct quantum_estimate {
+  std::size_t index = 0;  // cell (2D) or start (3D)
+  int channel = 0;
+  bool computed = false;  // false outside the rendered tile
+  double estimate = 0;
+  std::array<double, 2> interval{0, 0};
+  double exact = 0;      // P(out = 1) of the faithful circuit
+  double classical = 0;  // path sum / (S * scale)
+  double radiance_scale = 1;  // S * emission scale: radiance = value * radiance_scale
+  std::uint64_t a_calls = 0, grover_calls = 0;
+  std::string warning;
+};
+
+namespace detail {
+
+// P(out = 1) of a walk program and an estimate of it, for one (start, channel).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+inline quantum_estimate estimate_walk(const walk_model& m, const walk_start& start, int channel,
+                                      const quantum_options& o, rng& g) {
+  walk_options wo;
+  wo.steps = o.steps;
+  wo.channel = channel;
+  const walk_program w = make_walk_program(m, start, wo);
+  quantum_estimate q;
+  q.channel = channel;
+  q.computed = true;
+  q.radiance_scale = static_cast<double>(o.steps) * w.tables.emission_scale;
+  q.classical = path_sum(m, start, o.steps, channel) / q.radiance_scale;
+  const estimation_problem problem{w.circuit, {control{w.out, true}}};
+  auto finish = [&](auto& oracle) {
+    const estimation_result r = estimate_amplitude(oracle, o.estimator, g);
+    q.estimate = r.estimate;
+    q.interval = r.confidence_interval;
+    q.a_calls = r.a_calls;
+    q.grover_calls = r.grover_calls;
+    q.warning = r.warning;
+  };
+  if (w.circuit.is_real()) {
+    using backend = compact_state<double>;
+    q.exact = compact_probability(w);
+    if (o.grover == grover_mode::simulated) {
+      simulated_oracle<backend> oracle(problem);
+      finish(oracle);
+    } else {
+      analytic_oracle oracle(q.exact);
+      finish(oracle);
+    }
+  } else {
+    using backend = compact_state<std::complex<double>>;
+    q.exact = compact_probability(w);
+    if (o.grover == grover_mode::simulated) {
+      simulated_oracle<backend> oracle(problem);
+      finish(oracle);
+    } else {
+      analytic_oracle oracle(q.exact);
+      finish(oracle);
+    }
+  }
+  return q;
+}
+
+// Channels that repeat an earlier one (grey scenes) are computed once.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+inline std::array<int, 3> channel_sources(const scene& sc) {
+  std::array<int, 3> source{0, 1, 2};
+  for (int c = 1; c < 3; ++c)
+    for (int e = 0; e < c; ++e)
+      if (source[static_cast<std::size_t>(e)] == e && sc.same_channels(c, e)) {
+        source[static_cast<std::size_t>(c)] = e;
+        break;
+      }
+  return source;
+}
+
+// Runs job(start index, channel) for every start of [begin, end) and every distinct channel,
+// copies repeated channels, and returns the results indexed start * 3 + channel.
+template <class Job>
+std::vector<quantum_estimate> per_start_and_channel(const scene& sc, std::size_t starts, pixel_range range,
+                                                    const quantum_options& o, Job job) {
+  const auto source = channel_sources(sc);
+  std::vector<quantum_estimate> out(starts * 3);
+  const std::size_t jobs = (range.end - range.begin) * 3;
+  qrm::detail::parallel_jobs(jobs, o.threads, [&](std::size_t j) {
+    const std::size_t start = range.begin + j / 3;
+    const int c = static_cast<int>(j % 3);
+    if (source[static_cast<std::size_t>(c)] == c) {
+      rng g = rng::stream(o.seed, start * 3 + static_cast<std::size_t>(c));
+      out[start * 3 + static_cast<std::size_t>(c)] = job(start, c, g);
+      out[start * 3 + static_cast<std::size_t>(c)].index = start;
+    }
+    if (o.done) o.done(j);
+  });
+  for (std::size_t s = range.begin; s < range.end; ++s)
+    for (int c = 0; c < 3; ++c)
+      if (source[static_cast<std::size_t>(c)] != c) {
+        quantum_estimate copy = out[s * 3 + static_cast<std::size_t>(source[static_cast<std::size_t>(c)])];
+        copy.channel = c;
+        out[s * 3 + static_cast<std::size_t>(c)] = copy;
+      }
+  return out;
+}
+
+}  // namespace detail
+
+// estimate_lightmap(model, options): every cell of a 2D scene (index x + N y) and channel,
+// indexed cell * 3 + channel; the start is the light-map start (cell centre, all directions in
+// air, into the surface otherwise), as the paper's Fig. 4.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+std::vector<quantum_estimate> estimate_lightmap(const walk_model& m, const quantum_options& o) {
+  const scene& sc = m.scene_data();
+  const pixel_range range = tile_pixels(sc.voxel_count(), o.part);
+  return detail::per_start_and_channel(sc, sc.voxel_count(), range, o, [&](std::size_t cell, int c, rng& g) {
+    return detail::estimate_walk(m, m.light_map_start(sc.coords(cell)), c, o, g);
+  });
+}
+
+// lightmap_images: the light map as images (radiance, one pixel per cell): the estimate, the
+// exact faithful value, the classical transport.
+struct lightmap_images {
+  image estimated, exact, classical;
+};
+
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+inline lightmap_images lightmap_as_images(const scene& sc, std::span<const quantum_estimate> cells) {
+  if (sc.dims() != 2) throw std::invalid_argument("lightmap_as_images: a 2D scene is needed");
+  lightmap_images im{image(sc.size(), sc.size()), image(sc.size(), sc.size()), image(sc.size(), sc.size())};
+  for (const quantum_estimate& q : cells) {
+    if (!q.computed) continue;
+    const auto xy = sc.coords(q.index);
+    auto put = [&](image& img, double v) { img.at(xy[0], xy[1]).channel(q.channel) = static_cast<float>(v * q.radiance_scale); };
+    put(im.estimated, q.estimate);
+    put(im.exact, q.exact);
+    put(im.classical, q.classical);
+  }
+  return im;
+}
+
+// The result of render_quantum: the image, and per distinct walk start the estimates.
+struct quantum_image {
+  image estimated;  // Le + rho * estimate * S * scale
+  image exact;      // Le + rho * exact P(out = 1) * S * scale (the faithful circuit, from the state)
+  std::vector<quantum_estimate> starts;  // per distinct (voxel, direction) start and channel
+  std::size_t distinct_starts = 0;
+};
+
+// render_quantum(model, camera, options): every pixel from its own 3D walk circuit.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+quantum_image render_quantum(const walk_model& m, const camera& cam, const quantum_options& o) {
+  const auto px = pixel_starts(m, cam, o.part, o.threads);
+  const pixel_range r = tile_pixels(static_cast<std::size_t>(cam.width()) * cam.height(), o.part);
+  const auto groups = qrm::detail::group_render_starts(px);
+  quantum_image out{image(cam.width(), cam.height()), image(cam.width(), cam.height()), {}, groups.keys.size()};
+  // Random streams are keyed by the start's (voxel, direction), not by its position in this
+  // tile's list, so a pixel gets the same estimate whatever tiling renders it.
+  const std::size_t dirs = m.direction_count();
+  out.starts = detail::per_start_and_channel(
+      m.scene_data(), groups.keys.size(), {0, groups.keys.size()}, o, [&](std::size_t k, int c, rng&) {
+        const auto& key = groups.keys[k];
+        rng keyed = rng::stream(o.seed, (key.first * dirs + static_cast<std::size_t>(key.second)) * 3 +
+                                            static_cast<std::size_t>(c));
+        return detail::estimate_walk(m, qrm::detail::render_start_of(m.scene_data(), key), c, o, keyed);
+      });
+  for (std::size_t k = 0; k < px.size(); ++k) {
+    if (!px[k].hit) continue;
+    const voxel& v = m.scene_data()[px[k].voxel];
+    rgb3 est{}, ex{};
+    for (int c = 0; c < 3; ++c) {
+      const quantum_estimate& q = out.starts[groups.key_of_pixel[k] * 3 + static_cast<std::size_t>(c)];
+      est[static_cast<std::size_t>(c)] = q.estimate * q.radiance_scale;
+      ex[static_cast<std::size_t>(c)] = q.exact * q.radiance_scale;
+    }
+    qrm::detail::shade_pixel(out.estimated, r.begin + k, v, est);
+    qrm::detail::shade_pixel(out.exact, r.begin + k, v, ex);
+  }
+  return out;
+}
+
+// amplitude_path_estimator(settings): for render_emulated: the K sampled contributions give
+// a = mean(f) / (S * scale) (the Path gate's P(out = 1) on the K-path state); the estimator's
+// answer is scaled back. An analytic oracle: the emulator's state is classical anyway.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+inline path_estimator amplitude_path_estimator(estimator_settings settings) {
+  return [settings](const std::vector<double>& f, unsigned steps, double emission_scale, rng& g) {
+    double mean = 0;
+    for (double v : f) mean += v;
+    mean /= static_cast<double>(std::max<std::size_t>(1, f.size()));
+    const double scale = static_cast<double>(steps) * emission_scale;
+    analytic_oracle oracle(std::clamp(mean / scale, 0.0, 1.0));
+    return estimate_amplitude(oracle, settings, g).estimate * scale;
+  };
+}
+
+}  // namespace qrm::render
