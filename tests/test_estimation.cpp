@@ -602,3 +602,20 @@ TEST_CASE("estimators on the SineIntegral circuit, simulated, agree with the tru
     CHECK(truth <= r.confidence_interval[1]);
   }
 }
+
+TEST_CASE("the library rows of README's bad-input table: exact messages") {
+  qrm::analytic_oracle o(0.3), half(0.5);
+  qrm::rng g(1);
+  CHECK(error_of([] { qrm::analytic_oracle bad(std::nan("")); }) ==
+        "analytic_oracle: amplitude a must be in [0, 1], got nan");
+  CHECK(error_of([&] { qrm::faster_amplitude_estimation(o, qrm::fae_options{0.0, 5, true, false}, g); }) ==
+        "faster_amplitude_estimation: delta must be in (0, 1), got 0.000000");
+  CHECK(error_of([&] { qrm::faster_amplitude_estimation(half, qrm::fae_options{0.01, 5, false, true}, g); }) ==
+        "faster_amplitude_estimation: without rescale the amplitude must be at most 1/4, but P(good) = 0.500000; "
+        "enable rescale");
+  CHECK_THROWS_AS(qrm::faster_amplitude_estimation(half, qrm::fae_options{0.01, 5, false, true}, g), std::domain_error);
+  const qrm::estimation_problem e{qrm::program(2), {qrm::control{5, true}}};
+  CHECK(error_of([&] { simulated s(e); }) == "simulated_oracle: good condition on qubit 5 but A has 2 qubits");
+  CHECK(error_of([] { qrm::to_radiance(qrm::estimation_result{}, 0.0); }) ==
+        "to_radiance: path_terms S must be positive and finite, got 0.000000");
+}
