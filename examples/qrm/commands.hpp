@@ -16,5 +16,6 @@ int cmd_version(args&);
 int cmd_lightmap(args&);
 int cmd_circuit(args&);
 int cmd_estimate(args&);
+int cmd_scaling(args&);
 
 }  // namespace qrm_cli

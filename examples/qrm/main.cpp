@@ -21,6 +21,7 @@ static const command commands[] = {
     {"lightmap", "exact light maps of a 2D scene: faithful, history and classical", cmd_lightmap},
     {"circuit", "metrics of one start point's A operator at every pruning level; --qasm FILE exports it", cmd_circuit},
     {"estimate", "estimate a Bernoulli amplitude with fae, iqae, mlae, canonical, qcoin or mc", cmd_estimate},
+    {"scaling", "width and depth of A over s, p and d, fitted against the paper's O(s(p^3+d)); --out DIR", cmd_scaling},
 };
 
 static void print_usage(std::FILE* out) {
