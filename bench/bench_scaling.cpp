@@ -93,7 +93,9 @@ double passes(const qrm::op::any& o) {
   return qrm::visit_op(o, [](const auto& x) {
     using T = std::decay_t<decltype(x)>;
     double f = std::ldexp(1.0, -static_cast<int>(x.controls.size()));
-    auto half_if_phase = [](const qrm::gate1& g) { return g.is_diagonal() && g.m[0][0] == qrm::complex{1.0} ? 0.5 : 1.0; };
+    auto half_if_phase = [](const qrm::gate1& g) {
+      return g.is_diagonal() && g.m[0][0] == qrm::complex{1.0} ? 0.5 : 1.0;
+    };
     if constexpr (std::is_same_v<T, qrm::op::gate1_op>) {
       f *= half_if_phase(x.gate);
     } else if constexpr (std::is_same_v<T, qrm::op::mux1_op>) {
@@ -153,7 +155,8 @@ void BM_scaling(benchmark::State& st, qrm::scaling_case c) {
   put("width", r.width);
   put("logical_depth", r.logical.logical_depth);
   put("gate_count", r.logical.gate_count);
-  for (qrm::walk_layer l : qrm::all_walk_layers) st.counters[std::string("depth_") + qrm::walk_layer_name(l)] = static_cast<double>(r.layers[l]);
+  for (qrm::walk_layer l : qrm::all_walk_layers)
+    st.counters[std::string("depth_") + qrm::walk_layer_name(l)] = static_cast<double>(r.layers[l]);
   if (c.prune == qrm::pruning::none) put("depth_closed_form", r.unpruned_depth_formula);
   if (r.decomposed) {
     put("decomposed_depth", r.decomposed->depth);
@@ -207,11 +210,16 @@ void BM_apply(benchmark::State& st, qrm::scaling_case c) {
 enum class walk_part { whole, step, coin, shift, sample };
 const char* part_name(walk_part p) {
   switch (p) {
-    case walk_part::whole: return "whole";
-    case walk_part::step: return "step";
-    case walk_part::coin: return "coin";
-    case walk_part::shift: return "shift";
-    case walk_part::sample: return "sample";
+    case walk_part::whole:
+      return "whole";
+    case walk_part::step:
+      return "step";
+    case walk_part::coin:
+      return "coin";
+    case walk_part::shift:
+      return "shift";
+    case walk_part::sample:
+      return "sample";
   }
   return "?";
 }
@@ -297,13 +305,15 @@ void register_all() {
   std::map<std::string, qrm::scaling_case> points;
   for (const qrm::scaling_case& c : qrm::scaling_sweep()) points.emplace(point_name(c), c);
   for (const auto& [name, c] : points)
-    benchmark::RegisterBenchmark(("scaling/" + name).c_str(), BM_scaling, c)->MinTime(0.05)->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("scaling/" + name).c_str(), BM_scaling, c)
+        ->MinTime(0.05)
+        ->Unit(benchmark::kMillisecond);
   for (const auto& [name, c] : points) {
     // The formula's (unpruned) width bounds every pruning level's: no circuit is built here.
     const auto position_bits = static_cast<unsigned>(std::countr_zero(c.size));
-    const std::size_t width = qrm::walk_width_formula(c.dims, position_bits, c.dims == 3 ? 3 : 0,
-                                                      static_cast<unsigned>(qrm::bits_for(c.directions)), c.steps,
-                                                      c.variant);
+    const std::size_t width =
+        qrm::walk_width_formula(c.dims, position_bits, c.dims == 3 ? 3 : 0,
+                                static_cast<unsigned>(qrm::bits_for(c.directions)), c.steps, c.variant);
     if (width <= kMaxDenseApplyQubits) {
       if (c.dims == 2)
         benchmark::RegisterBenchmark(("apply_dense/" + name).c_str(), BM_apply<qrm::state_vector<double>>, c)
@@ -318,10 +328,13 @@ void register_all() {
     using wide = qrm::wide_label<2>;
     const std::string compact_name = "apply_compact/" + name;
     benchmark::internal::Benchmark* b =
-        c.dims == 2 ? (width <= 64 ? benchmark::RegisterBenchmark(compact_name.c_str(), BM_apply<qrm::compact_state<double>>, c)
-                                   : benchmark::RegisterBenchmark(compact_name.c_str(), BM_apply<qrm::compact_state<double, wide>>, c))
-                    : (width <= 64 ? benchmark::RegisterBenchmark(compact_name.c_str(), BM_apply<qrm::compact_state<cd>>, c)
-                                   : benchmark::RegisterBenchmark(compact_name.c_str(), BM_apply<qrm::compact_state<cd, wide>>, c));
+        c.dims == 2
+            ? (width <= 64
+                   ? benchmark::RegisterBenchmark(compact_name.c_str(), BM_apply<qrm::compact_state<double>>, c)
+                   : benchmark::RegisterBenchmark(compact_name.c_str(), BM_apply<qrm::compact_state<double, wide>>, c))
+            : (width <= 64
+                   ? benchmark::RegisterBenchmark(compact_name.c_str(), BM_apply<qrm::compact_state<cd>>, c)
+                   : benchmark::RegisterBenchmark(compact_name.c_str(), BM_apply<qrm::compact_state<cd, wide>>, c));
     b->MinTime(0.05)->Unit(benchmark::kMillisecond);
   }
   struct walk {
@@ -330,9 +343,9 @@ void register_all() {
   };
   using qrm::walk_variant;
   // 18, 21, 23, 25, 25 (history) and 26 qubits.
-  const walk walks[] = {{32, 2, walk_variant::faithful},  {32, 3, walk_variant::faithful},
-                        {64, 3, walk_variant::faithful},  {128, 3, walk_variant::faithful},
-                        {16, 3, walk_variant::history},   {512, 2, walk_variant::faithful}};
+  const walk walks[] = {{32, 2, walk_variant::faithful}, {32, 3, walk_variant::faithful},
+                        {64, 3, walk_variant::faithful}, {128, 3, walk_variant::faithful},
+                        {16, 3, walk_variant::history},  {512, 2, walk_variant::faithful}};
   for (const walk& w : walks) {
     const std::string base = "walk_bandwidth/p" + std::to_string(w.p) + "/s" + std::to_string(w.s) + "/" +
                              (w.v == walk_variant::faithful ? "faithful" : "history");

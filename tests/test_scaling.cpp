@@ -37,12 +37,12 @@ std::size_t width_by_hand(unsigned dims, unsigned p, unsigned fractional, std::s
                           bool history) {
   const std::size_t position_bits = static_cast<std::size_t>(std::log2(p) + 0.5);
   const std::size_t D = register_bits(directions);
-  std::size_t w = 1;                // out
-  w += register_bits(s);            // steps register, holds 0..s-1
-  w += s;                           // Le_i
-  w += s - 1;                       // rho_i, none after the last step
-  if (history) w += (s - 1) * D;    // a direction copy after each step but the last
-  w += D;                           // direction
+  std::size_t w = 1;              // out
+  w += register_bits(s);          // steps register, holds 0..s-1
+  w += s;                         // Le_i
+  w += s - 1;                     // rho_i, none after the last step
+  if (history) w += (s - 1) * D;  // a direction copy after each step but the last
+  w += D;                         // direction
   w += dims * (position_bits + fractional);
   return w;
 }
@@ -83,19 +83,22 @@ std::size_t adds_per_shift(const qrm::direction_set& dirs) {
 std::size_t depth_by_hand(const qrm::walk_model& m, const qrm::walk_start& start, unsigned s, bool history) {
   const std::size_t d = m.direction_count();
   std::size_t direction_layers = 0;
-  if (start.direction >= 0) direction_layers = start.direction != 0 ? 1 : 0;
-  else if (d == (std::size_t{1} << register_bits(d))) direction_layers = 1;
-  else direction_layers = cascade_layers(d);
+  if (start.direction >= 0)
+    direction_layers = start.direction != 0 ? 1 : 0;
+  else if (d == (std::size_t{1} << register_bits(d)))
+    direction_layers = 1;
+  else
+    direction_layers = cascade_layers(d);
   const bool voxel_bits = start.voxel[0] + start.voxel[1] + start.voxel[2] != 0;
   const std::size_t init = std::max<std::size_t>(voxel_bits ? 1 : 0, direction_layers);
   const std::size_t cells = m.scene_data().voxel_count(), a = adds_per_shift(m.directions());
   std::size_t depth = init;
   for (unsigned i = 0; i < s; ++i) {
-    depth += cells;                          // coin
-    if (history && i + 1 < s) depth += 1;   // direction copy
-    depth += a;                              // shift
-    depth += cells;                          // Le_i
-    if (i + 1 < s) depth += cells;           // rho_i
+    depth += cells;                        // coin
+    if (history && i + 1 < s) depth += 1;  // direction copy
+    depth += a;                            // shift
+    depth += cells;                        // Le_i
+    if (i + 1 < s) depth += cells;         // rho_i
   }
   return depth + 1;  // the last path term
 }
@@ -172,7 +175,8 @@ TEST_CASE("width: the register count, the library's formula and the built circui
             CAPTURE(d);
             CAPTURE(s);
             CAPTURE(history);
-            CHECK(qrm::walk_width_formula(dims, m.position_bits(), m.fractional_bits(), m.direction_bits(), s, v) == want);
+            CHECK(qrm::walk_width_formula(dims, m.position_bits(), m.fractional_bits(), m.direction_bits(), s, v) ==
+                  want);
             const auto full = build(m, start, s, v, pruning::none);
             CHECK(full.circuit.width() == want);
             CHECK(full.full_width == want);
@@ -200,7 +204,8 @@ TEST_CASE("the typed circuit's constexpr width is the register count") {
   static_assert(qrm::ray_marching_circuit<2, 3, 3, 3, walk_variant::history>::width == 23);
   CHECK(qrm::ray_marching_circuit<2, 5, 3, 7>::width == width_by_hand(2, 32, 0, 8, 7, false));
   CHECK(qrm::ray_marching_circuit<3, 4, 4, 5, walk_variant::history, 3>::width == width_by_hand(3, 16, 3, 15, 5, true));
-  CHECK(qrm::ray_marching_circuit<3, 3, 5, 1, walk_variant::faithful, 3>::width == width_by_hand(3, 8, 3, 32, 1, false));
+  CHECK(qrm::ray_marching_circuit<3, 3, 5, 1, walk_variant::faithful, 3>::width ==
+        width_by_hand(3, 8, 3, 32, 1, false));
 }
 
 TEST_CASE("unpruned depth equals the closed form derived from the construction") {
@@ -271,7 +276,8 @@ TEST_CASE("pruning never adds qubits, layers or gates; reachable prunes at least
 
 TEST_CASE("bad input to the scaling helpers is named") {
   CHECK_THROWS_WITH_AS(qrm::scaling_model(2, 8, 15), doctest::Contains("8 directions, got 15"), std::invalid_argument);
-  CHECK_THROWS_WITH_AS(qrm::scaling_model(4, 8, 8), doctest::Contains("dims must be 2 or 3, got 4"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(qrm::scaling_model(4, 8, 8), doctest::Contains("dims must be 2 or 3, got 4"),
+                       std::invalid_argument);
   CHECK_THROWS_WITH_AS(qrm::scaling_model(3, 4, 15), doctest::Contains("got 4"), std::invalid_argument);
   const qrm::walk_model m(qrm::paper_8x8(), qrm::king_2d());
   CHECK_THROWS_AS(qrm::unpruned_walk_depth(m, m.light_map_start({1, 1, 0}), 0, walk_variant::faithful),
@@ -357,14 +363,14 @@ TEST_CASE("the paper's 8x8 circuit exported to OpenQASM 3, parsed back and simul
         }
         for (std::size_t i = 0; i < want.size(); ++i)
           if (!seen[i]) worst_lowered = std::max(worst_lowered, std::abs(want[i]));
-        CHECK(worst_lowered < 1e-12);           // as above, over ~10^5 gates of rounding ~1e-16 each
-        CHECK(ancilla_probability < 1e-24);      // rounding only; an ancilla left in |1> is O(1)
+        CHECK(worst_lowered < 1e-12);        // as above, over ~10^5 gates of rounding ~1e-16 each
+        CHECK(ancilla_probability < 1e-24);  // rounding only; an ancilla left in |1> is O(1)
         worst_logical_all = std::max(worst_logical_all, worst);
         worst_lowered_all = std::max(worst_lowered_all, worst_lowered);
         dropped_all = std::max(dropped_all, c.pruned().probability);
         most_gates = std::max(most_gates, lowered.size());
       }
-  MESSAGE("largest amplitude error: logical " << worst_logical_all << ", decomposed " << worst_lowered_all
-                                              << " (up to " << most_gates << " gates; residues dropped <= "
-                                              << dropped_all << " in probability)");
+  MESSAGE("largest amplitude error: logical " << worst_logical_all << ", decomposed " << worst_lowered_all << " (up to "
+                                              << most_gates << " gates; residues dropped <= " << dropped_all
+                                              << " in probability)");
 }

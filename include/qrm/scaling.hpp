@@ -90,29 +90,38 @@ inline std::size_t unpruned_walk_depth(const walk_model& m, const walk_start& st
   if (steps < 1) throw std::invalid_argument("unpruned_walk_depth: steps must be at least 1");
   const std::size_t d = m.direction_count();
   std::size_t direction_init = 0;
-  if (start.direction > 0) direction_init = 1;
-  else if (start.direction < 0) direction_init = d == (std::size_t{1} << m.direction_bits()) ? 1 : uniform_preparation_depth(d);
+  if (start.direction > 0)
+    direction_init = 1;
+  else if (start.direction < 0)
+    direction_init = d == (std::size_t{1} << m.direction_bits()) ? 1 : uniform_preparation_depth(d);
   const bool voxel_nonzero = start.voxel[0] != 0 || start.voxel[1] != 0 || (m.dims() == 3 && start.voxel[2] != 0);
   const std::size_t init = std::max<std::size_t>(voxel_nonzero ? 1 : 0, direction_init);
   const std::size_t voxels = m.scene_data().voxel_count(), s = steps;
   const std::size_t history = variant == walk_variant::history ? s - 1 : 0;
   if (3 * voxels <= s + uniform_preparation_depth(s))
-    throw std::invalid_argument("unpruned_walk_depth: the closed form needs 3 p^dims > s + the steps preparation depth");
+    throw std::invalid_argument(
+        "unpruned_walk_depth: the closed form needs 3 p^dims > s + the steps preparation depth");
   return init + (3 * s - 1) * voxels + s * shift_pairs(m.directions()) + history + 1;
 }
 
 // The parts of the A operator (see walk.hpp), and the depth of each on its own.
 enum class walk_layer : unsigned char { init, coin, history, shift, sample, path };
-inline constexpr std::array<walk_layer, 6> all_walk_layers = {walk_layer::init,  walk_layer::coin,   walk_layer::history,
-                                                               walk_layer::shift, walk_layer::sample, walk_layer::path};
+inline constexpr std::array<walk_layer, 6> all_walk_layers = {
+    walk_layer::init, walk_layer::coin, walk_layer::history, walk_layer::shift, walk_layer::sample, walk_layer::path};
 constexpr const char* walk_layer_name(walk_layer l) {
   switch (l) {
-    case walk_layer::init: return "init";
-    case walk_layer::coin: return "coin";
-    case walk_layer::history: return "history";
-    case walk_layer::shift: return "shift";
-    case walk_layer::sample: return "sample";
-    case walk_layer::path: return "path";
+    case walk_layer::init:
+      return "init";
+    case walk_layer::coin:
+      return "coin";
+    case walk_layer::history:
+      return "history";
+    case walk_layer::shift:
+      return "shift";
+    case walk_layer::sample:
+      return "sample";
+    case walk_layer::path:
+      return "path";
   }
   return "?";
 }
@@ -131,16 +140,23 @@ inline walk_layer walk_layer_of(const std::vector<role>& roles, const op::any& o
   if (std::holds_alternative<op::mux_unitary_op>(o)) return walk_layer::coin;
   if (std::holds_alternative<op::add_op>(o)) return walk_layer::shift;
   qubit_index target = 0;
-  if (const auto* g = std::get_if<op::gate1_op>(&o)) target = g->target;
-  else if (const auto* x = std::get_if<op::mux1_op>(&o)) target = x->target;
-  else return walk_layer::init;
+  if (const auto* g = std::get_if<op::gate1_op>(&o))
+    target = g->target;
+  else if (const auto* x = std::get_if<op::mux1_op>(&o))
+    target = x->target;
+  else
+    return walk_layer::init;
   switch (roles[target]) {
-    case role::history: return walk_layer::history;
+    case role::history:
+      return walk_layer::history;
     case role::emission:
-    case role::reflectance: return walk_layer::sample;
+    case role::reflectance:
+      return walk_layer::sample;
     case role::steps:
-    case role::out: return walk_layer::path;
-    default: return walk_layer::init;
+    case role::out:
+      return walk_layer::path;
+    default:
+      return walk_layer::init;
   }
 }
 
@@ -181,7 +197,8 @@ inline walk_layer_metrics walk_layers(const program& p) {
 inline walk_model scaling_model(unsigned dims, unsigned size, std::size_t directions) {
   if (dims == 2) {
     if (directions != 8)
-      throw std::invalid_argument("scaling_model: 2D walks use the paper's 8 directions, got " + std::to_string(directions));
+      throw std::invalid_argument("scaling_model: 2D walks use the paper's 8 directions, got " +
+                                  std::to_string(directions));
     return walk_model(box_2d(size), king_2d());
   }
   if (dims == 3) return walk_model(render::cornell_box(size), sphere_directions(directions, 3));
@@ -204,8 +221,9 @@ inline walk_start scaling_start_of(const walk_model& m, scaling_start where) {
   const unsigned p = m.scene_data().size();
   if (m.dims() == 2) {
     const unsigned c = p / 2 >= 2 ? p / 2 - 2 : 0;
-    return m.light_map_start(where == scaling_start::near_light ? std::array<unsigned, 3>{p / 2 - 1, 2, 0}
-                                                                : std::array<unsigned, 3>{std::max(c, 1u), std::max(c, 1u), 0});
+    return m.light_map_start(where == scaling_start::near_light
+                                 ? std::array<unsigned, 3>{p / 2 - 1, 2, 0}
+                                 : std::array<unsigned, 3>{std::max(c, 1u), std::max(c, 1u), 0});
   }
   return m.light_map_start(where == scaling_start::near_light ? std::array<unsigned, 3>{p / 2, p - 4, p / 2}
                                                               : std::array<unsigned, 3>{p / 2, p / 2, p / 2});
@@ -284,8 +302,8 @@ inline scaling_result measure_scaling_case(const scaling_case& c, scaling_start 
   r.logical = measure(w.circuit);
   r.width = r.logical.width;
   r.full_width = w.full_width;
-  r.width_formula = walk_width_formula(m.dims(), m.position_bits(), m.fractional_bits(), m.direction_bits(), c.steps,
-                                       c.variant);
+  r.width_formula =
+      walk_width_formula(m.dims(), m.position_bits(), m.fractional_bits(), m.direction_bits(), c.steps, c.variant);
   r.layers = walk_layers(w.circuit);
   r.shift_pairs = shift_pairs(m.directions());
   if (c.prune == pruning::none) r.unpruned_depth_formula = unpruned_walk_depth(m, r.start, c.steps, c.variant);
