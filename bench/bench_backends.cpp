@@ -25,6 +25,7 @@
 #include <complex>
 #include <cstdint>
 #include <ctime>
+#include <optional>
 #include <qrm/qrm.hpp>
 #include <stdexcept>
 #include <string>
@@ -277,9 +278,11 @@ B make(std::size_t n) {
   }
 }
 
+// Runs prog on a fresh B per iteration; `out` is the qubit whose P(1) is reported (p_top).
 template <class B>
-void run_program(benchmark::State& st, const qrm::program& prog) {
+void run_program(benchmark::State& st, const qrm::program& prog, std::optional<qubit_index> out = std::nullopt) {
   const std::size_t n = prog.width();
+  const qubit_index read = out ? *out : static_cast<qubit_index>(n - 1);
   double probability_out = 0;
   std::size_t nonzeros = 0, peak = 0;
   for (auto _ : st) {
@@ -289,7 +292,7 @@ void run_program(benchmark::State& st, const qrm::program& prog) {
     st.PauseTiming();
     nonzeros = stored(b);
     peak = peak_bytes(b);
-    probability_out = b.probability(std::vector<control>{{static_cast<qubit_index>(n - 1), true}});
+    probability_out = b.probability(std::vector<control>{{read, true}});
     st.ResumeTiming();
   }
   const double dense_bytes = std::ldexp(static_cast<double>(sizeof(typename B::scalar_type)), static_cast<int>(n));
@@ -311,6 +314,21 @@ void BM_open_walk(benchmark::State& st) {
 template <class B>
 void BM_paper_8x8(benchmark::State& st) {
   run_program<B>(st, paper_8x8(st.range(0) != 0, st.range(1) != 0));
+}
+
+// The library's own A operator for the paper's 8x8 scene (qrm::make_walk_program with the
+// scene of qrm/paper_scenes.hpp, the paper's 8 directions and the light-map start in cell (1, 1),
+// red channel, 3 steps): the circuit qrm lightmap runs. Args: history (0/1), pruning (0 none,
+// 2 reachable). p_top = P(out = 1), the same on both backends.
+template <class B>
+void BM_paper_8x8_walk(benchmark::State& st) {
+  const qrm::walk_model m(qrm::paper_8x8(), qrm::king_2d());
+  qrm::walk_options o;
+  o.steps = 3;
+  o.variant = st.range(0) != 0 ? qrm::walk_variant::history : qrm::walk_variant::faithful;
+  o.prune = static_cast<qrm::pruning>(st.range(1));
+  const qrm::walk_program w = qrm::make_walk_program(m, m.light_map_start({1, 1, 0}), o);
+  run_program<B>(st, w.circuit, w.out);
 }
 
 // One op on a state with every amplitude nonzero (n = 20, real): the compact backend's worst
@@ -408,6 +426,17 @@ BENCHMARK(BM_paper_8x8<dense_c>)
 BENCHMARK(BM_paper_8x8<compact_c>)
     ->ArgNames({"history", "every_cell"})
     ->ArgsProduct({{0}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
+
+// The library's 8x8 walk circuit (make_walk_program): faithful 17 qubits, history 23 (unpruned;
+// reachable pruning drops idle qubits).
+BENCHMARK(BM_paper_8x8_walk<dense_d>)
+    ->ArgNames({"history", "prune"})
+    ->ArgsProduct({{0, 1}, {0, 2}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_paper_8x8_walk<compact_d>)
+    ->ArgNames({"history", "prune"})
+    ->ArgsProduct({{0, 1}, {0, 2}})
     ->Unit(benchmark::kMillisecond);
 
 // Single ops on a full 20-qubit state.

@@ -8,8 +8,11 @@
 
 #include <qrm/qrm.hpp>
 
+#include "support/errors.hpp"
 #include "support/backends.hpp"
 #include "support/random_ops.hpp"
+
+using qrm_test::error_of;
 
 namespace {
 using x = qrm::position<"x", 3>;
@@ -22,15 +25,6 @@ using L = qrm::layout<x, dir, le, rho, stp, out>;
 
 double ry_angle(double v) { return 2.0 * std::asin(std::sqrt(v)); }
 
-template <class F>
-std::string error_of(F f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 }  // namespace
 
 TEST_CASE("a circuit followed by its adjoint is the identity") {

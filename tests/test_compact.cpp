@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "support/errors.hpp"
 #include "support/backends.hpp"
 #include "support/random_ops.hpp"
 #include "support/reference.hpp"
@@ -22,16 +23,6 @@ using qrm::qubit_index;
 using cd = std::complex<double>;
 
 namespace {
-
-template <class F>
-std::string error_of(F f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 bool contains(const std::string& s, const std::string& part) {
   return s.find(part) != std::string::npos;

@@ -13,23 +13,16 @@
 #include <variant>
 #include <vector>
 
+#include "support/errors.hpp"
 #include "support/estimation.hpp"
 #include "support/random_ops.hpp"
+
+using qrm_test::error_of;
 
 namespace {
 using qrm_test::dense_real;
 using qrm_test::simulated;
 using std::numbers::pi;
-
-template <class F>
-std::string error_of(F f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 // P(Bin(n, p) >= k) by direct summation of the pmf.
 double binomial_upper_tail(int n, double p, int k) {

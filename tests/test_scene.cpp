@@ -6,17 +6,11 @@
 #include <qrm/paper_scenes.hpp>
 #include <qrm/scene_io.hpp>
 
-namespace {
+#include "support/errors.hpp"
 
-template <class F>
-std::string error_of(F f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using qrm_test::error_of;
+
+namespace {
 
 const char* header2d = "qrm-scene 1\ndims 2\nsize 4\ncolor w 1 1 1\n";
 

@@ -19,5 +19,6 @@ int cmd_estimate(args&);
 int cmd_render(args&);
 int cmd_merge(args&);
 int cmd_figures(args&);
+int cmd_scaling(args&);
 
 }  // namespace qrm_cli

@@ -24,6 +24,7 @@ static const command commands[] = {
     {"render", "render a scene: 2D light maps (FAE on the simulated circuit) or 3D images (exact, mc, emulated, quantum)", cmd_render},
     {"merge", "merge the tiles of a render (--parts DIR)", cmd_merge},
     {"estimate", "estimate a Bernoulli amplitude with fae, iqae, mlae, canonical, qcoin or mc", cmd_estimate},
+    {"scaling", "width and depth of A over s, p and d, fitted against the paper's O(s(p^3+d)); --out DIR", cmd_scaling},
 };
 
 static void print_usage(std::FILE* out) {

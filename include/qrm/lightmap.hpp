@@ -72,13 +72,7 @@ template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to co
 inline std::vector<lightmap_cell> exact_lightmap(const walk_model& m, const lightmap_options& opt,
                                                  const probability_runner& run = dense_probability<>) {
   const scene& sc = m.scene_data();
-  int source[3] = {0, 1, 2};  // channel c copies channel source[c]
-  for (int c = 1; c < 3; ++c)
-    for (int e = 0; e < c; ++e)
-      if (source[e] == e && sc.same_channels(c, e)) {
-        source[c] = e;
-        break;
-      }
+  const std::array<int, 3> source = sc.channel_sources();  // channel c copies channel source[c]
   const std::size_t cells = sc.voxel_count();
   std::vector<lightmap_cell> out(cells * 3);
   detail::parallel_jobs(cells * 3, opt.threads, [&](std::size_t job) {
@@ -91,7 +85,7 @@ inline std::vector<lightmap_cell> exact_lightmap(const walk_model& m, const ligh
     r.z = xyz[2];
     r.channel = c;
     r.emission_scale = sc.emission_scale(c);
-    if (source[c] != c) return;  // filled in below
+    if (source[static_cast<std::size_t>(c)] != c) return;  // filled in below
     const walk_start start = m.light_map_start(xyz);
     walk_options o;
     o.steps = opt.steps;
@@ -106,8 +100,8 @@ inline std::vector<lightmap_cell> exact_lightmap(const walk_model& m, const ligh
   });
   for (std::size_t cell = 0; cell < cells; ++cell)
     for (int c = 0; c < 3; ++c)
-      if (source[c] != c) {
-        lightmap_cell copy = out[cell * 3 + static_cast<std::size_t>(source[c])];
+      if (source[static_cast<std::size_t>(c)] != c) {
+        lightmap_cell copy = out[cell * 3 + static_cast<std::size_t>(source[static_cast<std::size_t>(c)])];
         copy.channel = c;
         out[cell * 3 + static_cast<std::size_t>(c)] = copy;
       }

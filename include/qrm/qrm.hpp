@@ -27,6 +27,8 @@
 //                        pruning levels, history variant
 //   classical.hpp        exact branching path sum, Monte Carlo random walk
 //   lightmap.hpp         exact light maps: faithful, history and classical per cell and channel
+//   scaling.hpp          width formula, closed-form unpruned depth, per-layer depths, the scaling
+//                        study's scenes, starts and sweep (qrm scaling, bench_scaling)
 // Amplitude estimation
 //   estimation/problem.hpp      estimation_problem (A program + good controls), bernoulli, sine_integral
 //   estimation/grover.hpp       Grover operator Q = A S0 A^dagger S_chi, reflections, rescaling, qcoin coin
@@ -85,6 +87,7 @@
 #include "walk.hpp"
 #include "classical.hpp"
 #include "lightmap.hpp"
+#include "scaling.hpp"
 
 #include "render/voxelize.hpp"
 #include "render/camera.hpp"

@@ -108,6 +108,18 @@ class scene {
       if (v.reflectance[c1] != v.reflectance[c2] || v.emission[c1] != v.emission[c2]) return false;
     return true;
   }
+  // For each channel, the first channel with the same data (grey scenes: {0, 0, 0}), so results
+  // are computed once per distinct channel.
+  std::array<int, 3> channel_sources() const {
+    std::array<int, 3> source{0, 1, 2};
+    for (int c = 1; c < 3; ++c)
+      for (int e = 0; e < c; ++e)
+        if (source[static_cast<std::size_t>(e)] == e && same_channels(c, e)) {
+          source[static_cast<std::size_t>(c)] = e;
+          break;
+        }
+    return source;
+  }
   // The factor emission is divided by before amplitude encoding: max(1, largest emission).
   double emission_scale(int channel) const {
     double m = 1.0;

@@ -24,6 +24,7 @@
 #include "../detail/aligned_allocator.hpp"
 #include "../detail/bits.hpp"
 #include "../detail/dense_kernels.hpp"
+#include "../detail/validate.hpp"
 #include "../detail/scalar.hpp"
 #include "../ops.hpp"
 
@@ -138,7 +139,7 @@ class state_vector {
   void apply_unitary(const dense_matrix& m, std::span<const qubit_index> targets, std::span<const control> controls) {
     const auto cm = detail::make_control_mask(controls, n_, "apply_unitary");
     const std::uint64_t tm = detail::make_operand_mask(targets, n_, cm.mask, "apply_unitary");
-    check_dim(m, targets.size(), "apply_unitary");
+    detail::check_matrix_dim(m, targets.size(), "apply_unitary");
     check_real(m.is_real(), "apply_unitary");
     detail::kernel_unitary(amps_.data(), n_, m, targets, tm, cm.mask, cm.value, ex_);
   }
@@ -153,7 +154,7 @@ class state_vector {
     const auto cm = detail::make_control_mask(controls, n_, "apply_mux1");
     const std::uint64_t sm = detail::make_operand_mask(select, n_, cm.mask, "apply_mux1");
     detail::make_operand_mask(std::span<const qubit_index>(&target, 1), n_, cm.mask | sm, "apply_mux1");
-    check_entries(entries, select.size(), "apply_mux1");
+    detail::check_select_entries(entries, select.size(), "apply_mux1");
     for (const auto& e : entries) check_real(e.gate.is_real(), "apply_mux1");
     detail::kernel_mux1(amps_.data(), n_, entries, target, select, sm, cm.mask, cm.value, ex_);
   }
@@ -163,9 +164,9 @@ class state_vector {
     const auto cm = detail::make_control_mask(controls, n_, "apply_mux_unitary");
     const std::uint64_t sm = detail::make_operand_mask(select, n_, cm.mask, "apply_mux_unitary");
     const std::uint64_t tm = detail::make_operand_mask(targets, n_, cm.mask | sm, "apply_mux_unitary");
-    check_entries(entries, select.size(), "apply_mux_unitary");
+    detail::check_select_entries(entries, select.size(), "apply_mux_unitary");
     for (const auto& m : matrices) {
-      check_dim(m, targets.size(), "apply_mux_unitary");
+      detail::check_matrix_dim(m, targets.size(), "apply_mux_unitary");
       check_real(m.is_real(), "apply_mux_unitary");
     }
     for (const auto& e : entries)
@@ -211,28 +212,6 @@ class state_vector {
                                     detail::scalar_name<Scalar>() + "> stores real amplitudes");
     }
   }
-  static void check_dim(const dense_matrix& m, std::size_t k, const char* what) {
-    if (k > 16 || m.dim != (std::size_t{1} << k) || m.data.size() != m.dim * m.dim)
-      throw std::invalid_argument(std::string(what) + ": a " + std::to_string(m.dim) + "x" + std::to_string(m.dim) +
-                                  " matrix cannot act on " + std::to_string(k) + " qubits");
-  }
-  template <class E>
-  static void check_entries(std::span<const E> entries, std::size_t m, const char* what) {
-    if (m > 30) throw std::invalid_argument(std::string(what) + ": at most 30 select qubits");
-    std::vector<std::uint64_t> values;
-    values.reserve(entries.size());
-    for (const auto& e : entries) {
-      if (e.select >= (std::uint64_t{1} << m))
-        throw std::invalid_argument(std::string(what) + ": select value " + std::to_string(e.select) + " does not fit " +
-                                    std::to_string(m) + " select qubits");
-      values.push_back(e.select);
-    }
-    std::sort(values.begin(), values.end());
-    const auto dup = std::adjacent_find(values.begin(), values.end());
-    if (dup != values.end())
-      throw std::invalid_argument(std::string(what) + ": select value " + std::to_string(*dup) + " has two entries");
-  }
-
   unsigned n_;
   std::vector<Scalar, detail::huge_page_allocator<Scalar>> amps_;
   detail::exec_policy ex_;

@@ -21,6 +21,7 @@
 #include <functional>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "../backends/compact.hpp"
@@ -87,9 +88,9 @@ inline quantum_estimate estimate_walk(const walk_model& m, const walk_start& sta
     q.grover_calls = r.grover_calls;
     q.warning = r.warning;
   };
-  if (w.circuit.is_real()) {
-    using backend = compact_state<double>;
-    q.exact = compact_probability(w);
+  q.exact = compact_probability(w);
+  auto with_backend = [&](auto backend_tag) {
+    using backend = typename decltype(backend_tag)::type;
     if (o.grover == grover_mode::simulated) {
       simulated_oracle<backend> oracle(problem);
       finish(oracle);
@@ -97,31 +98,12 @@ inline quantum_estimate estimate_walk(const walk_model& m, const walk_start& sta
       analytic_oracle oracle(q.exact);
       finish(oracle);
     }
-  } else {
-    using backend = compact_state<std::complex<double>>;
-    q.exact = compact_probability(w);
-    if (o.grover == grover_mode::simulated) {
-      simulated_oracle<backend> oracle(problem);
-      finish(oracle);
-    } else {
-      analytic_oracle oracle(q.exact);
-      finish(oracle);
-    }
-  }
+  };
+  if (w.circuit.is_real())
+    with_backend(std::type_identity<compact_state<double>>{});  // the 2D circuits: real amplitudes
+  else
+    with_backend(std::type_identity<compact_state<std::complex<double>>>{});  // 3D coins may be complex
   return q;
-}
-
-// Channels that repeat an earlier one (grey scenes) are computed once.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
-inline std::array<int, 3> channel_sources(const scene& sc) {
-  std::array<int, 3> source{0, 1, 2};
-  for (int c = 1; c < 3; ++c)
-    for (int e = 0; e < c; ++e)
-      if (source[static_cast<std::size_t>(e)] == e && sc.same_channels(c, e)) {
-        source[static_cast<std::size_t>(c)] = e;
-        break;
-      }
-  return source;
 }
 
 // Runs job(start index, channel) for every start of [begin, end) and every distinct channel,
@@ -129,7 +111,7 @@ inline std::array<int, 3> channel_sources(const scene& sc) {
 template <class Job>
 std::vector<quantum_estimate> per_start_and_channel(const scene& sc, std::size_t starts, pixel_range range,
                                                     const quantum_options& o, Job job) {
-  const auto source = channel_sources(sc);
+  const auto source = sc.channel_sources();
   std::vector<quantum_estimate> out(starts * 3);
   const std::size_t jobs = (range.end - range.begin) * 3;
   qrm::detail::parallel_jobs(jobs, o.threads, [&](std::size_t j) {
