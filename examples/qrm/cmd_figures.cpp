@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include <qrm/io/atomic_file.hpp>
 #include <qrm/io/pfm.hpp>
 #include <qrm/io/svg_plot.hpp>
 #include <qrm/render/experiments.hpp>
@@ -82,7 +83,7 @@ int cmd_figures(args& a) {
   s.quiet = a.flag("quiet");
   s.estimator_json = "{\"estimator\":\"fae\",\"delta\":0.01,\"maxiter\":5,\"rescale\":true}";
   const fs::path dir(s.out);
-  fs::create_directories(dir);
+  qrm::io::ensure_directory(dir);
   const auto t_all = std::chrono::steady_clock::now();
   figure_log log;
   log.line("# qrm figures");

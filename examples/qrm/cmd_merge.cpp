@@ -86,7 +86,7 @@ int cmd_merge(args& a) {
       throw std::runtime_error(parts.string() + ": tile " + std::to_string(i) + " of " + std::to_string(n) +
                                (count == 0 ? " is missing" : " appears " + std::to_string(count) + " times"));
   }
-  fs::create_directories(s.out);
+  qrm::io::ensure_directory(s.out);
   std::vector<std::string> written;
   std::vector<qrm::io::image> merged;
   for (const std::string& base : ms[0].images) {

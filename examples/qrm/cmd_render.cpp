@@ -16,7 +16,7 @@ int cmd_render(args& a) {
   a.allow(render_flags());
   const render_settings s = parse_render_settings(a);
   const qrm::scene sc = load_render_scene(s);
-  fs::create_directories(s.out);
+  qrm::io::ensure_directory(s.out);
   std::string summary;
   if (sc.dims() == 2) {
     const auto r = render_lightmap(s, sc);

@@ -186,6 +186,7 @@ int cmd_scaling(args& a) {
     throw usage_error("--start must be near_light or centre, got '" + start_name + "'");
   const bool decompose = !a.flag("no-decompose");
   const bool quiet = a.flag("quiet");
+  qrm::io::ensure_directory(out);  // before the measurements, so a bad --out fails at once
 
   // Measure every distinct point once (the sweeps share some).
   std::map<key, qrm::scaling_case> todo;

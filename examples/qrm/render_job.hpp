@@ -138,7 +138,7 @@ inline bool wants(const render_settings& s, const std::string& method) {
 inline qrm::scene load_render_scene(const render_settings& s) {
   if (s.scene == "cornell") return qrm::render::cornell_box(s.voxels);
   if (s.scene == "spheres") return qrm::render::two_spheres(s.voxels);
-  return scene_from_arg(s.scene);
+  return scene_from_arg(s.scene, "paper_4x4, paper_8x8, cornell, spheres");
 }
 
 // ---- outputs ----------------------------------------------------------------------------------

@@ -11,11 +11,12 @@
 
 namespace qrm_cli {
 
-// A built-in 2D scene name, or a scene file.
-inline qrm::scene scene_from_arg(const std::string& value) {
+// A built-in 2D scene name, or a scene file. `builtins` lists the names the calling command
+// accepts, for the error message (render also takes the 3D scenes).
+inline qrm::scene scene_from_arg(const std::string& value, const std::string& builtins = "paper_4x4, paper_8x8") {
   if (value == "paper_8x8" || value == "paper_4x4") return qrm::builtin_2d_scene(value);
   if (!std::filesystem::exists(value))
-    throw usage_error("--scene: '" + value + "' is neither a built-in scene (paper_4x4, paper_8x8) nor an existing file");
+    throw usage_error("--scene: '" + value + "' is neither a built-in scene (" + builtins + ") nor an existing file");
   return qrm::load_scene(value);
 }
 

@@ -98,17 +98,22 @@ class file_sink {
   std::uint64_t written_ = 0;
 };
 
-// ensure_parent_directory(target): creates the directories leading to `target` if missing;
-// throws std::runtime_error naming the directory and the reason (e.g. a component is a file).
-inline void ensure_parent_directory(const std::filesystem::path& target) {
-  const std::filesystem::path dir = target.parent_path();
+// ensure_directory(dir): creates `dir` and its parents if missing; throws std::runtime_error
+// naming the directory and the reason (e.g. a component is a file). Commands call it before
+// they compute anything, so a bad output path fails at once rather than after the work.
+inline void ensure_directory(const std::filesystem::path& dir, const std::string& purpose = {}) {
   if (dir.empty()) return;
   std::error_code ec;
   if (std::filesystem::is_directory(dir, ec)) return;
   std::filesystem::create_directories(dir, ec);
   if (ec || !std::filesystem::is_directory(dir))
-    throw std::runtime_error("cannot create directory '" + dir.string() + "' for '" + target.string() + "': " +
+    throw std::runtime_error("cannot create directory '" + dir.string() + "'" + purpose + ": " +
                              (ec ? ec.message() : std::string("a path component is not a directory")));
+}
+
+// ensure_parent_directory(target): ensure_directory of the directory that will hold `target`.
+inline void ensure_parent_directory(const std::filesystem::path& target) {
+  ensure_directory(target.parent_path(), " for '" + target.string() + "'");
 }
 
 // write_file_atomically(target, writer): calls writer(file_sink&) to produce the whole content of
