@@ -103,6 +103,13 @@ TEST_CASE("malformed scene files are rejected with the line and the problem") {
   CHECK(err(std::string(header2d) + "teleport 1 2\n") == "s.txt:5: unknown statement 'teleport'");
   CHECK(err("qrm-scene 1\ndims 2\n") == "s.txt:2: the file ends before 'size' (a scene needs 'dims' and 'size')");
   CHECK(err("qrm-scene 1\ndims 3\nsize 4\nvoxel 1 1 1 L 0 0 0 rho 1 1 1\n") == "s.txt:4: normal must be a nonzero vector");
+  // Found by fuzz_scene: a normal with a huge (or tiny) but finite component is a valid direction;
+  // its length overflows (underflows) in double, which once escaped as std::invalid_argument.
+  const qrm::scene huge = qrm::parse_scene("qrm-scene 1\ndims 3\nsize 4\nvoxel 1 1 1 S 0.5 0.5 1e300 rho 1 1 1\n", "s.txt");
+  CHECK(huge.at(1, 1, 1).normal == qrm::vec3{0.5 / 1e300, 0.5 / 1e300, 1.0});
+  const qrm::scene tiny = qrm::parse_scene("qrm-scene 1\ndims 3\nsize 4\nvoxel 1 1 1 L 3e-300 0 -4e-300 rho 1 1 1\n", "s.txt");
+  CHECK(tiny.at(1, 1, 1).normal[0] == doctest::Approx(0.6).epsilon(1e-15));
+  CHECK(tiny.at(1, 1, 1).normal[2] == doctest::Approx(-0.8).epsilon(1e-15));
   CHECK(error_of([] { qrm::load_scene("/nonexistent/scene.txt"); }) == "/nonexistent/scene.txt: cannot open the scene file");
   CHECK(error_of([] { qrm::scene("s", 2, 12); }) == "scene: size must be a power of two >= 2 (N = 2^P), got 12");
 }

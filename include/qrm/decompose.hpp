@@ -348,6 +348,7 @@ struct lowered_gate {
 };
 
 // Collects output gates; with `optimize`, fuses single-qubit runs and cancels equal pairs.
+template <int = 0>  // a template so that it is compiled only where used
 class peephole_sink {
  public:
   explicit peephole_sink(bool optimize) : optimize_(optimize) {}
@@ -417,6 +418,7 @@ class peephole_sink {
 };
 
 // The lowering rules of the header comment, applied op by op.
+template <int = 0>  // a template so that it is compiled only where used
 class lowerer {
  public:
   lowerer(std::size_t width, decompose_options o) : n_(width), opt_(o), out_(o.optimize) {}
@@ -745,7 +747,7 @@ class lowerer {
 
   std::size_t n_;
   decompose_options opt_;
-  peephole_sink out_;
+  peephole_sink<> out_;
   std::size_t ancillas_ = 0;
   std::vector<qubit_index> free_;
   std::size_t index_ = 0;
@@ -757,7 +759,7 @@ class lowerer {
 // comment), with clean ancillas appended after p's qubits.
 template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline decomposition_result decompose(const program& p, decompose_options options = {}) {
-  detail::lowerer l(p.width(), options);
+  detail::lowerer<> l(p.width(), options);
   for (std::size_t i = 0; i < p.ops().size(); ++i) l.lower(p.ops()[i], i);
   return l.finish(p.registers());
 }

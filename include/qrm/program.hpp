@@ -174,6 +174,7 @@ class program {
                                     std::to_string(width_) + " qubits");
     ops_.push_back(std::move(o));
   }
+  template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
   void append(const program& other) {
     if (other.width_ > width_) width_ = other.width_;
     ops_.insert(ops_.end(), other.ops_.begin(), other.ops_.end());

@@ -76,6 +76,7 @@ constexpr std::size_t uniform_preparation_depth(std::uint64_t count) {
 }
 
 // shift_pairs(directions): (direction, axis) pairs with a nonzero displacement: one add each.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::size_t shift_pairs(const direction_set& dirs) {
   std::size_t a = 0;
   for (const auto& d : dirs.displacement)
@@ -85,6 +86,7 @@ inline std::size_t shift_pairs(const direction_set& dirs) {
 
 // unpruned_walk_depth(model, start, steps, variant): the closed form of the header comment for
 // the logical depth of make_walk_program(model, start, {steps, variant, pruning::none}).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::size_t unpruned_walk_depth(const walk_model& m, const walk_start& start, unsigned steps,
                                        walk_variant variant) {
   if (steps < 1) throw std::invalid_argument("unpruned_walk_depth: steps must be at least 1");
@@ -136,6 +138,7 @@ struct walk_layer_metrics {
 // p's registers: a multiplexed unitary is the Coin, an add the Shift, a gate on a history qubit
 // the History copy, a gate on Le or rho the Sample, on steps or out the Path, anything else
 // (position and direction preparation) Init.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline walk_layer walk_layer_of(const std::vector<role>& roles, const op::any& o) {
   if (std::holds_alternative<op::mux_unitary_op>(o)) return walk_layer::coin;
   if (std::holds_alternative<op::add_op>(o)) return walk_layer::shift;
@@ -161,6 +164,7 @@ inline walk_layer walk_layer_of(const std::vector<role>& roles, const op::any& o
 }
 
 // walk_layer_roles(p): the role of each qubit of p, from its register table (ancilla if none).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::vector<role> walk_layer_roles(const program& p) {
   std::vector<role> roles(p.width(), role::ancilla);
   for (const register_info& r : p.registers())
@@ -169,6 +173,7 @@ inline std::vector<role> walk_layer_roles(const program& p) {
 }
 
 // walk_layer_programs(p): p's ops split by layer (indexed by walk_layer), each on p's qubits.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::array<program, 6> walk_layer_programs(const program& p) {
   const std::vector<role> roles = walk_layer_roles(p);
   std::array<program, 6> parts;
@@ -178,6 +183,7 @@ inline std::array<program, 6> walk_layer_programs(const program& p) {
 }
 
 // walk_layers(p): depth and gate count of each layer of a walk program on its own.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline walk_layer_metrics walk_layers(const program& p) {
   const std::array<program, 6> parts = walk_layer_programs(p);
   walk_layer_metrics r;
@@ -194,6 +200,7 @@ inline walk_layer_metrics walk_layers(const program& p) {
 // scaling_model(dims, size, directions): 2D box_2d(size) with the paper's 8 king directions
 // (directions must be 8), or 3D cornell_box(size) with sphere_directions(directions, 3)
 // (size >= 8: the Cornell box needs a shell and a wall layer on each side).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline walk_model scaling_model(unsigned dims, unsigned size, std::size_t directions) {
   if (dims == 2) {
     if (directions != 8)
@@ -217,6 +224,7 @@ inline walk_model scaling_model(unsigned dims, unsigned size, std::size_t direct
 //               p >= 32, 3D p >= 16), where the reachable-pruned circuit is empty (no path term
 //               can fire).
 enum class scaling_start { near_light, centre };
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline walk_start scaling_start_of(const walk_model& m, scaling_start where) {
   const unsigned p = m.scene_data().size();
   if (m.dims() == 2) {
@@ -239,6 +247,7 @@ struct scaling_case {
   bool decompose = false;  // lower to 1q + CNOT too (expensive: see scaling_sweep)
 };
 
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::string scaling_case_name(const scaling_case& c) {
   return std::string(1, c.sweep) + "/" + std::to_string(c.dims) + "d/p" + std::to_string(c.size) + "/s" +
          std::to_string(c.steps) + "/d" + std::to_string(c.directions) + "/" +
@@ -253,6 +262,7 @@ inline std::string scaling_case_name(const scaling_case& c) {
 // memory: ~1.6 GB and 2.3 s for the unpruned 3D p = 8, s = 3 circuit) is done where it takes at
 // most a few seconds: 2D p <= 64; 3D p = 8 with s <= 3 and d <= 15; and every reachable-pruned
 // 3D circuit with p <= 16 or s <= 3 (they are small).
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline std::vector<scaling_case> scaling_sweep() {
   std::vector<scaling_case> out;
   auto add = [&](scaling_case c, auto decompose_if) {
@@ -289,6 +299,7 @@ struct scaling_result {
 };
 
 // measure_scaling_case(c, start): build the point's circuit and measure it.
+template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
 inline scaling_result measure_scaling_case(const scaling_case& c, scaling_start where = scaling_start::near_light) {
   const walk_model m = scaling_model(c.dims, c.size, c.directions);
   scaling_result r;

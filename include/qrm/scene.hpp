@@ -5,6 +5,7 @@
 // (which coin the walk applies there), a normal, and RGB reflectance and emission.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -38,10 +39,16 @@ using vec3 = std::array<double, 3>;
 
 inline double dot(const vec3& a, const vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 inline double norm(const vec3& a) { return std::sqrt(dot(a, a)); }
+// The unit vector along a: any finite nonzero a, however large or small its components.
 inline vec3 normalized(const vec3& a) {
   const double l = norm(a);
-  if (!(l > 0) || !std::isfinite(l)) throw std::invalid_argument("normalized: zero or non-finite vector");
-  return {a[0] / l, a[1] / l, a[2] / l};
+  // Squares of components between 1e-150 and 1e150 neither overflow nor underflow.
+  if (l > 1e-150 && l < 1e150) return {a[0] / l, a[1] / l, a[2] / l};
+  const double m = std::max({std::abs(a[0]), std::abs(a[1]), std::abs(a[2])});
+  if (!(m > 0) || !std::isfinite(m)) throw std::invalid_argument("normalized: zero or non-finite vector");
+  const vec3 s{a[0] / m, a[1] / m, a[2] / m};  // largest component exactly +-1: norm(s) in [1, sqrt 3]
+  const double ls = norm(s);
+  return {s[0] / ls, s[1] / ls, s[2] / ls};
 }
 
 struct voxel {

@@ -180,7 +180,7 @@ class scene_parser {
       if (i + 3 > t.size()) fail("missing normal (three numbers) after kind " + k);
       const vec3 n{number(t[i], "normal"), number(t[i + 1], "normal"), number(t[i + 2], "normal")};
       i += 3;
-      if (!(norm(n) > 0)) fail("normal must be a nonzero vector");
+      if (n[0] == 0 && n[1] == 0 && n[2] == 0) fail("normal must be a nonzero vector");
       // Unit normals are kept bit for bit, so format_scene -> parse_scene round-trips exactly.
       v.normal = std::abs(norm(n) - 1.0) < 1e-12 ? n : normalized(n);
     }

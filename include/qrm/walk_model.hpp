@@ -39,6 +39,8 @@ struct walk_state {
 
 class walk_model {
  public:
+  // (A constructor template, so that the coin builders are compiled only where a walk is made.)
+  template <int = 0>
   walk_model(scene s_in, direction_set dirs) : scene_(std::make_shared<const scene>(std::move(s_in))), dirs_(std::move(dirs)) {
     const scene& s = *scene_;
     s.validate();
@@ -170,6 +172,7 @@ class walk_model {
   }
 
  private:
+  template <int = 0>
   dense_matrix make_coin(const voxel& v) const {
     switch (v.kind) {
       case material::lambertian:

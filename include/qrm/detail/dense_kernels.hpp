@@ -55,31 +55,37 @@ inline void runs_in_range(const subspace& s, std::uint64_t k0, std::uint64_t k1,
     f(s.index(k0), k1 - k0);
     return;
   }
-  // Recomputing each run's first index (independent of the previous one) keeps more cache
-  // misses in flight than stepping from run to run: measured 92 us vs 234 us for C^12 X with
-  // low controls at n = 26.
-  for (std::uint64_t k = k0; k < k1; k += run) f(s.index(k), run);
+  // Step from run to run by adding `run` to the free bits only (the fixed bits are set to 1 so
+  // the carry passes over them): three operations instead of s.index's loop over every fixed
+  // bit, which dominated scattered walks (C^12 X with low controls at n = 26: 342 -> 133 us).
+  // The chain is in registers, so the loads of successive runs still overlap.
+  const std::uint64_t fixed = s.fixed_mask;
+  std::uint64_t free = s.index(k0) & ~fixed;
+  for (std::uint64_t k = k0; k < k1; k += run) {
+    f(free | s.fixed_value, run);
+    free = ((free | fixed) + run) & ~fixed;
+  }
 }
 
 // Calls f(first_index, length) over all of s, in parallel chunks when worth it; `work` is the
-// number of amplitudes touched per member.
-template <class F>
-void for_each_run(const subspace& s, const exec_policy& ex, std::uint64_t work, F&& f) {
+// number of amplitudes touched per member. `ranges(k0, k1)` walks the members [k0, k1).
+template <class Ranges>
+void for_each_chunk(const subspace& s, const exec_policy& ex, std::uint64_t work, Ranges&& ranges) {
   const std::uint64_t count = s.count();
   if (ex.threads <= 1 || count <= chunk_members || count * work < ex.min_parallel) {
-    runs_in_range(s, 0, count, f);
+    ranges(std::uint64_t{0}, count);
     return;
   }
   const std::uint64_t chunks = count / chunk_members;
-  shared_pool().parallel_for(static_cast<std::size_t>(chunks), ex.threads, [&](std::size_t i) {
-    runs_in_range(s, i * chunk_members, (i + 1) * chunk_members, f);
-  });
+  shared_pool().parallel_for(static_cast<std::size_t>(chunks), ex.threads,
+                             [&](std::size_t i) { ranges(i * chunk_members, (i + 1) * chunk_members); });
 }
 
-// Calls body(i) for every index i where the controls hold and the target bit is 0 (its partner
-// is i + 2^t). When the target lies below every control, the controls' runs are split into
-// blocks of 2^(t+1) and walked with plain nested loops, which the compiler turns into straight
-// (vectorisable) code even for target 0, instead of one call per pair.
+template <class F>
+void for_each_run(const subspace& s, const exec_policy& ex, std::uint64_t work, F&& f) {
+  for_each_chunk(s, ex, work, [&](std::uint64_t k0, std::uint64_t k1) { runs_in_range(s, k0, k1, f); });
+}
+
 // Hint that a[i] will be written soon. The address is formed as an integer because it may lie
 // past the end of the vector near the last block (a prefetch never faults; pointer arithmetic
 // out of bounds would be undefined).
