@@ -110,6 +110,12 @@ TEST_CASE("malformed scene files are rejected with the line and the problem") {
   const qrm::scene tiny = qrm::parse_scene("qrm-scene 1\ndims 3\nsize 4\nvoxel 1 1 1 L 3e-300 0 -4e-300 rho 1 1 1\n", "s.txt");
   CHECK(tiny.at(1, 1, 1).normal[0] == doctest::Approx(0.6).epsilon(1e-15));
   CHECK(tiny.at(1, 1, 1).normal[2] == doctest::Approx(-0.8).epsilon(1e-15));
+  // ... and a normalized normal can have a subnormal component, which must read back (strtod
+  // reports underflow for it): found by fuzz_scene as a failed format -> parse round trip.
+  const qrm::scene sub = qrm::parse_scene("qrm-scene 1\ndims 3\nsize 4\nvoxel 1 1 1 S 1 0 5e-309 rho 1 1 1\n", "s.txt");
+  CHECK(sub.at(1, 1, 1).normal[2] == 5e-309);
+  CHECK(qrm::parse_scene(qrm::format_scene(sub), "again").voxels() == sub.voxels());
+  CHECK(err("qrm-scene 1\ndims 3\nsize 4\nvoxel 1 1 1 S 1 0 1e999 rho 1 1 1\n") == "s.txt:4: normal: 1e999 is not finite");
   CHECK(error_of([] { qrm::load_scene("/nonexistent/scene.txt"); }) == "/nonexistent/scene.txt: cannot open the scene file");
   CHECK(error_of([] { qrm::scene("s", 2, 12); }) == "scene: size must be a power of two >= 2 (N = 2^P), got 12");
 }
