@@ -143,10 +143,9 @@ class scene_parser {
     char* end = nullptr;
     errno = 0;
     const double v = std::strtod(s.c_str(), &end);
-    // ERANGE with a finite result is underflow (a subnormal or zero, which format_scene can write,
-    // e.g. a normalized normal's tiny component): still a number. Overflow gives inf: not finite.
-    const bool out_of_range = errno == ERANGE;
-    if ((errno != 0 && !out_of_range) || end == s.c_str() || *end != '\0') fail(what + ": '" + s + "' is not a number");
+    // ERANGE is underflow (a subnormal or zero, which format_scene can write, e.g. a normalized
+    // normal's tiny component: still a number) or overflow (inf: refused as not finite below).
+    if ((errno != 0 && errno != ERANGE) || end == s.c_str() || *end != '\0') fail(what + ": '" + s + "' is not a number");
     if (!std::isfinite(v)) fail(what + ": " + s + " is not finite");
     return v;
   }

@@ -68,22 +68,18 @@ inline void runs_in_range(const subspace& s, std::uint64_t k0, std::uint64_t k1,
 }
 
 // Calls f(first_index, length) over all of s, in parallel chunks when worth it; `work` is the
-// number of amplitudes touched per member. `ranges(k0, k1)` walks the members [k0, k1).
-template <class Ranges>
-void for_each_chunk(const subspace& s, const exec_policy& ex, std::uint64_t work, Ranges&& ranges) {
+// number of amplitudes touched per member.
+template <class F>
+void for_each_run(const subspace& s, const exec_policy& ex, std::uint64_t work, F&& f) {
   const std::uint64_t count = s.count();
   if (ex.threads <= 1 || count <= chunk_members || count * work < ex.min_parallel) {
-    ranges(std::uint64_t{0}, count);
+    runs_in_range(s, 0, count, f);
     return;
   }
   const std::uint64_t chunks = count / chunk_members;
-  shared_pool().parallel_for(static_cast<std::size_t>(chunks), ex.threads,
-                             [&](std::size_t i) { ranges(i * chunk_members, (i + 1) * chunk_members); });
-}
-
-template <class F>
-void for_each_run(const subspace& s, const exec_policy& ex, std::uint64_t work, F&& f) {
-  for_each_chunk(s, ex, work, [&](std::uint64_t k0, std::uint64_t k1) { runs_in_range(s, k0, k1, f); });
+  shared_pool().parallel_for(static_cast<std::size_t>(chunks), ex.threads, [&](std::size_t i) {
+    runs_in_range(s, i * chunk_members, (i + 1) * chunk_members, f);
+  });
 }
 
 // Hint that a[i] will be written soon. The address is formed as an integer because it may lie
@@ -94,6 +90,10 @@ inline void prefetch_for_write(const S* a, std::uint64_t i) {
   __builtin_prefetch(reinterpret_cast<const void*>(reinterpret_cast<std::uintptr_t>(a) + i * sizeof(S)), 1);
 }
 
+// Calls body(i) for every index i where the controls hold and the target bit is 0 (its partner
+// is i + 2^t). When the target lies below every control, the controls' runs are split into
+// blocks of 2^(t+1) and walked with plain nested loops, which the compiler turns into straight
+// (vectorisable) code even for target 0, instead of one call per pair.
 template <class S, class Body>
 void for_each_pair(const S* a, unsigned n, unsigned t, std::uint64_t cmask, std::uint64_t cvalue, const exec_policy& ex,
                    std::uint64_t work, Body&& body) {
