@@ -317,7 +317,7 @@ void BM_paper_8x8(benchmark::State& st) {
 }
 
 // The library's own A operator for the paper's 8x8 scene (qrm::make_walk_program with the
-// scene of qrm/paper_scenes.hpp, the paper's 8 directions and the light-map start in cell (1, 1),
+// scene of qrm/walk/paper_scenes.hpp, the paper's 8 directions and the light-map start in cell (1, 1),
 // red channel, 3 steps): the circuit qrm lightmap runs. Args: history (0/1), pruning (0 none,
 // 2 reachable). p_top = P(out = 1), the same on both backends.
 template <class B>

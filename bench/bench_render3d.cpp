@@ -7,7 +7,7 @@
 
 #include <map>
 #include <memory>
-#include <qrm/render/render_classical.hpp>
+#include <qrm/render/classical.hpp>
 #include <qrm/render/voxelize.hpp>
 #include <tuple>
 

@@ -50,7 +50,8 @@
 
 #include <qrm/backends/compact.hpp>
 #include <qrm/backends/dense.hpp>
-#include <qrm/scaling.hpp>
+#include <qrm/walk/cost.hpp>
+#include "scaling_study.hpp"  // examples/qrm: the study's sweep points
 
 namespace {
 

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <set>
 
-#include <qrm/coins.hpp>
-#include <qrm/directions.hpp>
-#include <qrm/random.hpp>
+#include <qrm/walk/coins.hpp>
+#include <qrm/walk/directions.hpp>
+#include <qrm/support/random.hpp>
 
 namespace {
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include <qrm/decompose.hpp>
-#include <qrm/program.hpp>
+#include <qrm/circuit/decompose.hpp>
+#include <qrm/circuit/program.hpp>
 
 #include "support/random_programs.hpp"
 #include "support/reference.hpp"
@@ -271,7 +271,7 @@ TEST_CASE("decomposed_metrics agrees with the decomposed program") {
   for (int i = 0; i < 10; ++i) p.push(qrm_test::random_op(qrm_test::all_op_kinds[g.below(6)], 6, g));
   const auto d = qrm::decompose(p);
   const auto m = qrm::decomposed_metrics(p);
-  const auto logical = qrm::measure(d.circuit);
+  const auto logical = qrm::circuit_metrics_of(d.circuit);
   CHECK(m.depth == logical.logical_depth);
   CHECK(m.width == d.circuit.width());
   CHECK(m.gate_count == d.circuit.ops().size());

@@ -21,12 +21,12 @@
 
 #include <qrm/backends/compact.hpp>
 #include <qrm/backends/dense.hpp>
-#include <qrm/lightmap.hpp>
-#include <qrm/paper_scenes.hpp>
+#include <qrm/walk/lightmap.hpp>
+#include <qrm/walk/paper_scenes.hpp>
 #include <qrm/render/camera.hpp>
-#include <qrm/render/render_classical.hpp>
+#include <qrm/render/classical.hpp>
 #include <qrm/render/voxelize.hpp>
-#include <qrm/walk.hpp>
+#include <qrm/walk/circuit.hpp>
 
 #include "support/estimation.hpp"
 

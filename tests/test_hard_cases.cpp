@@ -23,11 +23,11 @@
 
 #include <qrm/backends/compact.hpp>
 #include <qrm/backends/dense.hpp>
-#include <qrm/classical.hpp>
+#include <qrm/walk/classical.hpp>
 #include <qrm/estimation/grover.hpp>
-#include <qrm/lightmap.hpp>
-#include <qrm/paper_scenes.hpp>
-#include <qrm/walk.hpp>
+#include <qrm/walk/lightmap.hpp>
+#include <qrm/walk/paper_scenes.hpp>
+#include <qrm/walk/circuit.hpp>
 
 #include "support/estimation.hpp"
 

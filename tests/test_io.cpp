@@ -14,7 +14,7 @@
 #include <qrm/io/png.hpp>
 #include <qrm/io/progress.hpp>
 #include <qrm/io/svg_plot.hpp>
-#include <qrm/random.hpp>
+#include <qrm/support/random.hpp>
 
 #include <algorithm>
 #include <atomic>

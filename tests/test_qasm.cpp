@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include <qrm/qasm.hpp>
+#include <qrm/circuit/qasm.hpp>
 
 #include "support/random_programs.hpp"
 

@@ -7,8 +7,8 @@
 
 #include <qrm/backends/dense.hpp>
 #include <qrm/io/svg_plot.hpp>
-#include <qrm/lightmap.hpp>
-#include <qrm/paper_scenes.hpp>
+#include <qrm/walk/lightmap.hpp>
+#include <qrm/walk/paper_scenes.hpp>
 #include <qrm/render/experiments.hpp>
 #include <qrm/render/quantum.hpp>
 #include <qrm/render/voxelize.hpp>

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include <qrm/random.hpp>
+#include <qrm/support/random.hpp>
 
 TEST_CASE("the generator is reproducible and streams differ") {
   qrm::rng a(42), b(42), c = qrm::rng::stream(42, 1), d = qrm::rng::stream(42, 2);

@@ -11,11 +11,11 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
-#include <qrm/classical.hpp>
+#include <qrm/walk/classical.hpp>
 #include <qrm/render/camera.hpp>
 #include <qrm/render/dda.hpp>
-#include <qrm/render/image.hpp>
-#include <qrm/render/render_classical.hpp>
+#include <qrm/render/tiles.hpp>
+#include <qrm/render/classical.hpp>
 #include <qrm/render/voxelize.hpp>
 #include <vector>
 

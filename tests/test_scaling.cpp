@@ -2,8 +2,8 @@
 // (walk.hpp), pruning never adding anything, and the OpenQASM 3 round trip of the paper's 8x8
 // circuit simulated gate by gate.
 //
-// The formulas here are written independently of qrm/scaling.hpp (which states the same ones for
-// the report): both must agree with what qrm::measure counts on the built circuits.
+// The formulas here are written independently of qrm/walk/cost.hpp (which states the same ones for
+// the report): both must agree with what qrm::circuit_metrics_of counts on the built circuits.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -15,8 +15,9 @@
 
 #include <qrm/backends/compact.hpp>
 #include <qrm/backends/dense.hpp>
-#include <qrm/qasm.hpp>
-#include <qrm/scaling.hpp>
+#include <qrm/circuit/qasm.hpp>
+#include <qrm/walk/cost.hpp>
+#include "scaling_study.hpp"  // examples/qrm: the study's sweep points
 
 namespace {
 
@@ -69,7 +70,7 @@ std::size_t adds_per_shift(const qrm::direction_set& dirs) {
   return a;
 }
 
-// The unpruned circuit's logical depth, derived from walk.hpp's emit order and qrm::measure's
+// The unpruned circuit's logical depth, derived from walk.hpp's emit order and qrm::circuit_metrics_of's
 // rules (ASAP; a multiplexer is one layer per entry; a multi-controlled gate one layer):
 //  - init: X on the start voxel's set bits and on the start direction's set bits, one parallel
 //    layer each, or H on all direction qubits (d a power of two), or the Ry cascade; the first
@@ -223,7 +224,7 @@ TEST_CASE("unpruned depth equals the closed form derived from the construction")
             for (unsigned s = 1; s <= max_steps; ++s) {
               const walk_variant v = history ? walk_variant::history : walk_variant::faithful;
               const auto w = build(m, start, s, v, pruning::none);
-              const qrm::circuit_metrics got = qrm::measure(w.circuit);
+              const qrm::circuit_metrics got = qrm::circuit_metrics_of(w.circuit);
               CAPTURE(dims);
               CAPTURE(p);
               CAPTURE(d);
@@ -258,9 +259,9 @@ TEST_CASE("pruning never adds qubits, layers or gates; reachable prunes at least
       for (const qrm::walk_start& start : starts_of(m))
         for (walk_variant v : {walk_variant::faithful, walk_variant::history})
           for (unsigned s = 1; s <= (dims == 2 ? 5u : 3u); ++s) {
-            const auto full = qrm::measure(build(m, start, s, v, pruning::none).circuit);
-            const auto scene = qrm::measure(build(m, start, s, v, pruning::scene).circuit);
-            const auto reach = qrm::measure(build(m, start, s, v, pruning::reachable).circuit);
+            const auto full = qrm::circuit_metrics_of(build(m, start, s, v, pruning::none).circuit);
+            const auto scene = qrm::circuit_metrics_of(build(m, start, s, v, pruning::scene).circuit);
+            const auto reach = qrm::circuit_metrics_of(build(m, start, s, v, pruning::reachable).circuit);
             CAPTURE(dims);
             CAPTURE(p);
             CAPTURE(s);
@@ -323,7 +324,7 @@ TEST_CASE("the paper's 8x8 circuit exported to OpenQASM 3, parsed back and simul
         CHECK(text.find("ctrl(") != std::string::npos);
         const qrm::program logical = qrm::from_qasm(text);
         REQUIRE(logical.width() == n);
-        CHECK(logical.size() >= qrm::measure(w.circuit).gate_count);  // every entry became its own gate
+        CHECK(logical.size() >= qrm::circuit_metrics_of(w.circuit).gate_count);  // every entry became its own gate
         const cvec got = dense_state(logical);
         double worst = 0;
         for (std::size_t i = 0; i < want.size(); ++i) worst = std::max(worst, std::abs(got[i] - want[i]));

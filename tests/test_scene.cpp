@@ -3,8 +3,8 @@
 
 #include <string>
 
-#include <qrm/paper_scenes.hpp>
-#include <qrm/scene_io.hpp>
+#include <qrm/walk/paper_scenes.hpp>
+#include <qrm/walk/scene_format.hpp>
 
 #include "support/errors.hpp"
 

@@ -5,10 +5,10 @@
 
 #include <cmath>
 
-#include <qrm/classical.hpp>
-#include <qrm/lightmap.hpp>
-#include <qrm/paper_scenes.hpp>
-#include <qrm/walk.hpp>
+#include <qrm/walk/classical.hpp>
+#include <qrm/walk/lightmap.hpp>
+#include <qrm/walk/paper_scenes.hpp>
+#include <qrm/walk/circuit.hpp>
 
 namespace {
 
@@ -89,7 +89,7 @@ TEST_CASE("the typed circuit has the paper's width and matches the run-time buil
     const qrm::control out{typed.out_qubit(), true};
     CHECK(std::abs(a.probability(std::span<const qrm::control>(&out, 1)) - qrm::dense_probability(built)) < 1e-12);
     // The logical depth stays within the compile-time O(s(p^2 + d)) bound.
-    CHECK(qrm::measure(from_type).logical_depth <= A::depth_bound);
+    CHECK(qrm::circuit_metrics_of(from_type).logical_depth <= A::depth_bound);
   }
 }
 
@@ -99,11 +99,11 @@ TEST_CASE("pruning removes gates, depth and qubits") {
   const auto start = m.light_map_start({3, 4, 0});
   qrm::walk_options o;
   o.prune = qrm::pruning::none;
-  const auto full = qrm::measure(qrm::make_walk_program(m, start, o).circuit);
+  const auto full = qrm::circuit_metrics_of(qrm::make_walk_program(m, start, o).circuit);
   o.prune = qrm::pruning::scene;
-  const auto scene_pruned = qrm::measure(qrm::make_walk_program(m, start, o).circuit);
+  const auto scene_pruned = qrm::circuit_metrics_of(qrm::make_walk_program(m, start, o).circuit);
   o.prune = qrm::pruning::reachable;
-  const auto reach = qrm::measure(qrm::make_walk_program(m, start, o).circuit);
+  const auto reach = qrm::circuit_metrics_of(qrm::make_walk_program(m, start, o).circuit);
   MESSAGE("unpruned: width " << full.width << " depth " << full.logical_depth << " gates " << full.gate_count);
   MESSAGE("scene:    width " << scene_pruned.width << " depth " << scene_pruned.logical_depth << " gates " << scene_pruned.gate_count);
   MESSAGE("reach:    width " << reach.width << " depth " << reach.logical_depth << " gates " << reach.gate_count);

@@ -4,11 +4,11 @@
 #include <cstdio>
 #include <string>
 
-#include <qrm/decompose.hpp>
+#include <qrm/circuit/decompose.hpp>
 #include <qrm/io/atomic_file.hpp>
-#include <qrm/metrics.hpp>
-#include <qrm/qasm.hpp>
-#include <qrm/walk.hpp>
+#include <qrm/circuit/metrics.hpp>
+#include <qrm/circuit/qasm.hpp>
+#include <qrm/walk/circuit.hpp>
 
 #include "commands.hpp"
 #include "scene_arg.hpp"
@@ -24,7 +24,7 @@ struct level_report {
 
 level_report report_for(const qrm::walk_model& m, const qrm::walk_start& start, qrm::walk_options o) {
   const auto w = qrm::make_walk_program(m, start, o);
-  return {qrm::measure(w.circuit), qrm::decomposed_metrics(w.circuit)};
+  return {qrm::circuit_metrics_of(w.circuit), qrm::decomposed_metrics(w.circuit)};
 }
 
 // Appends `"key":value` pieces one by one (g++ 12 at -O3 warns falsely, -Wrestrict, on long
@@ -77,7 +77,7 @@ int cmd_circuit(args& a) {
   const qrm::walk_model m(sc, qrm::king_2d());
   const qrm::walk_start start = m.light_map_start(cell);
   const auto w = qrm::make_walk_program(m, start, o);
-  const level_report chosen{qrm::measure(w.circuit), qrm::decomposed_metrics(w.circuit)};
+  const level_report chosen{qrm::circuit_metrics_of(w.circuit), qrm::decomposed_metrics(w.circuit)};
 
   // The paper's width formula (Section 6): 2 log2 p (position) + log2 d (direction) + s (Le)
   // + (s - 1) (rho) + ceil(log2 s) (steps) + 1 (out) [+ (s - 1) log2 d history qubits].

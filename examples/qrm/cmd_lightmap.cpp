@@ -2,7 +2,7 @@
 #include <cstdio>
 #include <string>
 
-#include <qrm/lightmap.hpp>
+#include <qrm/walk/lightmap.hpp>
 
 #include "commands.hpp"
 #include "scene_arg.hpp"

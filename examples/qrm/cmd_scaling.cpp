@@ -18,7 +18,8 @@
 #include <qrm/io/csv.hpp>
 #include <qrm/io/progress.hpp>
 #include <qrm/io/svg_plot.hpp>
-#include <qrm/scaling.hpp>
+#include <qrm/walk/cost.hpp>
+#include "scaling_study.hpp"
 #include <qrm/version.hpp>
 
 #include "commands.hpp"
@@ -530,7 +531,7 @@ int cmd_scaling(args& a) {
   md += "` (qrm " + std::string(qrm::version) +
         "). Every number here is counted, not timed: the same on every machine. Times: bench_scaling.\n\n";
   md +=
-      "- Circuits: `make_walk_program(model, start, {s, variant, pruning})` (include/qrm/walk.hpp). 2D: `box_2d(p)` "
+      "- Circuits: `make_walk_program(model, start, {s, variant, pruning})` (include/qrm/walk/circuit.hpp). 2D: `box_2d(p)` "
       "with the paper's 8 directions; 3D: `cornell_box(p)` with `sphere_directions(d, 3)` (3 fractional position "
       "bits).\n";
   md +=
@@ -542,7 +543,7 @@ int cmd_scaling(args& a) {
             "p >= 16 the light is more than s steps away: the reachable-pruned circuit is then empty, and points "
             "with a zero depth are left out of the log-log fits and plots.\n";
   md +=
-      "- Logical depth: `qrm::measure` (ASAP layers; a multiplexed gate is one layer per entry, i.e. one gate per "
+      "- Logical depth: `qrm::circuit_metrics_of` (ASAP layers; a multiplexed gate is one layer per entry, i.e. one gate per "
       "voxel, as the paper counts; a multi-controlled gate is one layer). Layer depths: each layer's ops on their own "
       "(`qrm::walk_layers`). Decomposed: `qrm::decompose` to single-qubit gates and CNOTs with clean ancillas, where "
       "it takes a few seconds (see `qrm::scaling_sweep`); `-` elsewhere.\n";
@@ -570,7 +571,7 @@ int cmd_scaling(args& a) {
       "depth = init + (3 s - 1) p^dims + s a + [history] (s - 1) + 1, with a = the (direction, axis) pairs with a "
       "nonzero displacement (one controlled add each; a <= dims d), init = 1 (basis start or H on the directions) or "
       "the depth of the uniform preparation over d directions (d not a power of two). Derivation: "
-      "include/qrm/scaling.hpp. Measured = closed form at " +
+      "include/qrm/walk/cost.hpp. Measured = closed form at " +
       std::to_string(depth_ok) + " of " + std::to_string(unpruned) +
       " unpruned points. So depth is O(s (p^dims + d)): the paper's O(s (p^3 + d)) in 3D.\n\n";
   md += "## Where the decomposed circuit's CNOTs come from (2D box, s = 3, unpruned)\n\n";

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include <qrm/directions.hpp>
+#include <qrm/walk/directions.hpp>
 #include <qrm/io/atomic_file.hpp>
 #include <qrm/io/csv.hpp>
 #include <qrm/io/image.hpp>
@@ -22,9 +22,9 @@
 #include <qrm/io/png.hpp>
 #include <qrm/io/progress.hpp>
 #include <qrm/render/quantum.hpp>
-#include <qrm/render/render_classical.hpp>
+#include <qrm/render/classical.hpp>
 #include <qrm/render/voxelize.hpp>
-#include <qrm/walk_model.hpp>
+#include <qrm/walk/model.hpp>
 
 #include "args.hpp"
 #include "estimator_args.hpp"

@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <string>
 
-#include <qrm/paper_scenes.hpp>
-#include <qrm/scene_io.hpp>
+#include <qrm/walk/paper_scenes.hpp>
+#include <qrm/walk/scene_format.hpp>
 
 #include "args.hpp"
 

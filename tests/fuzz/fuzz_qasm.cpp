@@ -1,4 +1,4 @@
-// libFuzzer target for the OpenQASM 3 importer and exporter (qrm/qasm.hpp). The first byte picks
+// libFuzzer target for the OpenQASM 3 importer and exporter (qrm/circuit/qasm.hpp). The first byte picks
 // the mode:
 //  - even: text mode. The whole input is OpenQASM text. from_qasm must return a program or throw
 //    qrm::qasm_error (never crash, hang, or throw anything else). A program it accepts must
@@ -24,8 +24,8 @@
 #include <vector>
 
 #include <qrm/backends/dense.hpp>
-#include <qrm/qasm.hpp>
-#include <qrm/random.hpp>
+#include <qrm/circuit/qasm.hpp>
+#include <qrm/support/random.hpp>
 
 #include "support/random_ops.hpp"
 #include "support/random_programs.hpp"

@@ -8,8 +8,8 @@
 #include <fstream>
 #include <string>
 
-#include <qrm/qasm.hpp>
-#include <qrm/random.hpp>
+#include <qrm/circuit/qasm.hpp>
+#include <qrm/support/random.hpp>
 
 #include "support/random_programs.hpp"
 

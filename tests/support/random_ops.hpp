@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include <qrm/ops.hpp>
-#include <qrm/random.hpp>
+#include <qrm/circuit/ops.hpp>
+#include <qrm/support/random.hpp>
 
 namespace qrm_test {
 

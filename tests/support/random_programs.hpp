@@ -9,8 +9,8 @@
 #include <vector>
 
 #include <qrm/backends/dense.hpp>
-#include <qrm/program.hpp>
-#include <qrm/random.hpp>
+#include <qrm/circuit/program.hpp>
+#include <qrm/support/random.hpp>
 
 #include "random_ops.hpp"
 

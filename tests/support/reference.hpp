@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include <qrm/ops.hpp>
+#include <qrm/circuit/ops.hpp>
 
 namespace qrm_test {
 

@@ -47,10 +47,10 @@
 #include <utility>
 #include <vector>
 
-#include "../detail/compact_kernels.hpp"
-#include "../detail/labels.hpp"
-#include "../detail/scalar.hpp"
-#include "../ops.hpp"
+#include "detail/compact_kernels.hpp"
+#include "detail/labels.hpp"
+#include "detail/scalar.hpp"
+#include "../circuit/ops.hpp"
 
 namespace qrm {
 

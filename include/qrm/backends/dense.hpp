@@ -21,12 +21,12 @@
 #include <unistd.h>
 #endif
 
-#include "../detail/aligned_allocator.hpp"
-#include "../detail/bits.hpp"
-#include "../detail/dense_kernels.hpp"
-#include "../detail/validate.hpp"
-#include "../detail/scalar.hpp"
-#include "../ops.hpp"
+#include "detail/aligned_allocator.hpp"
+#include "detail/bits.hpp"
+#include "detail/dense_kernels.hpp"
+#include "detail/validate.hpp"
+#include "detail/scalar.hpp"
+#include "../circuit/ops.hpp"
 
 namespace qrm {
 

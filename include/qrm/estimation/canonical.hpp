@@ -32,8 +32,8 @@
 #include <string>
 #include <vector>
 
-#include "../measure.hpp"
-#include "../random.hpp"
+#include "../backends/measure.hpp"
+#include "../support/random.hpp"
 #include "detail/maximize.hpp"
 #include "detail/stats.hpp"
 #include "oracle.hpp"

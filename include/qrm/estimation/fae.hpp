@@ -32,7 +32,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "../random.hpp"
+#include "../support/random.hpp"
 #include "detail/stats.hpp"
 #include "oracle.hpp"
 #include "result.hpp"

@@ -16,15 +16,15 @@
 #include <string>
 #include <vector>
 
-#include "../ops.hpp"
-#include "../program.hpp"
+#include "../circuit/ops.hpp"
+#include "../circuit/program.hpp"
 #include "problem.hpp"
 
 namespace qrm {
 
 namespace detail {
 // diag(-1, 1): flips the sign of |0> on its target.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline gate1 flip_zero() {
   return gate::u(-1.0, 0.0, 0.0, 1.0);
 }
@@ -32,7 +32,7 @@ inline gate1 flip_zero() {
 
 // zero_reflection(width): S0, the sign flip of |0...0> on qubits [0, width): diag(-1, 1) on
 // qubit 0 with negative controls on all the others.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline program zero_reflection(std::size_t width) {
   if (width == 0) throw std::invalid_argument("zero_reflection: width must be positive");
   program p(width);
@@ -45,7 +45,7 @@ inline program zero_reflection(std::size_t width) {
 // good_reflection(width, good, extra): S_chi, the sign flip of the states where every control in
 // `good` holds (and every control in `extra`, which makes it a controlled S_chi). One op: Z (or
 // diag(-1, 1) for a value-0 condition) on the first good qubit, controlled by the rest.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline program good_reflection(std::size_t width, std::span<const control> good, std::span<const control> extra = {}) {
   detail::check_good(std::vector<control>(good.begin(), good.end()), width, "good_reflection");
   program p(width);
@@ -56,7 +56,7 @@ inline program good_reflection(std::size_t width, std::span<const control> good,
 }
 
 // grover_operator(problem): Q = A S0 A^dagger S_chi as one program (S_chi runs first).
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline program grover_operator(const estimation_problem& e) {
   const std::size_t w = e.a.width();
   program q(w);
@@ -69,7 +69,7 @@ inline program grover_operator(const estimation_problem& e) {
 
 // rescaled_problem(problem, s): A followed by Ry(2 asin s) on a fresh ancilla (qubit `width`),
 // good = the old condition and ancilla = 1, so the new amplitude is a * s^2.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline estimation_problem rescaled_problem(const estimation_problem& e, double s) {
   if (!(s > 0.0 && s <= 1.0))
     throw std::invalid_argument("rescaled_problem: scale must be in (0, 1], got " + std::to_string(s));
@@ -92,7 +92,7 @@ inline estimation_problem rescaled_problem(const estimation_problem& e, double s
 // reference qubit r rotated so that <0|Ry|0> = l scales it to l - a. For l < 1/2 the |0> branch
 // uses -S_chi instead (a diag(-1, 1) on c), giving (a - l)/(1 - l), scaled by 1 - l to a - l.
 // Costs one A and one A^dagger.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline program coin_program(const estimation_problem& e, double l) {
   if (!(l >= 0.0 && l <= 1.0))
     throw std::invalid_argument("coin_program: reference must be in [0, 1], got " + std::to_string(l));

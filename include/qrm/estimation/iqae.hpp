@@ -24,7 +24,7 @@
 #include <string>
 #include <utility>
 
-#include "../random.hpp"
+#include "../support/random.hpp"
 #include "detail/stats.hpp"
 #include "oracle.hpp"
 #include "result.hpp"

@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "../random.hpp"
+#include "../support/random.hpp"
 #include "detail/maximize.hpp"
 #include "detail/stats.hpp"
 #include "oracle.hpp"

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "../random.hpp"
+#include "../support/random.hpp"
 #include "detail/stats.hpp"
 #include "oracle.hpp"
 #include "result.hpp"

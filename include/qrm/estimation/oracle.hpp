@@ -22,7 +22,7 @@
 #include <utility>
 #include <vector>
 
-#include "../program.hpp"
+#include "../circuit/program.hpp"
 #include "grover.hpp"
 #include "problem.hpp"
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "../ops.hpp"
-#include "../program.hpp"
+#include "../circuit/ops.hpp"
+#include "../circuit/program.hpp"
 
 namespace qrm {
 
@@ -22,7 +22,7 @@ struct estimation_problem {
 
 namespace detail {
 // Throws unless `good` is a non-empty list of distinct qubits inside a program of `width` qubits.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void check_good(const std::vector<control>& good, std::size_t width, const char* who) {
   if (good.empty())
     throw std::invalid_argument(std::string(who) + ": the good condition is empty (give at least one control)");
@@ -38,14 +38,14 @@ inline void check_good(const std::vector<control>& good, std::size_t width, cons
 }
 
 // The Ry angle that puts probability v on |1>: 2 asin(sqrt(v)).
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline double ry_angle_for(double v) {
   return 2.0 * std::asin(std::sqrt(v));
 }
 }  // namespace detail
 
 // bernoulli_problem(P): one qubit rotated by Ry(2 asin sqrt P); good = that qubit is 1, so a = P.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline estimation_problem bernoulli_problem(double p) {
   if (!(p >= 0.0 && p <= 1.0))
     throw std::invalid_argument("bernoulli_problem: probability must be in [0, 1], got " + std::to_string(p));
@@ -56,7 +56,7 @@ inline estimation_problem bernoulli_problem(double p) {
 
 // sine_integral_value(n): mean over x < 2^n of sin^2((x + 1/2) / 2^n), in closed form
 // 1/2 - sin(2) / (4 N sin(1/N)) with N = 2^n (sum of cosines of an arithmetic progression).
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline double sine_integral_value(unsigned n) {
   const double N = std::ldexp(1.0, static_cast<int>(n));
   return 0.5 - std::sin(2.0) / (4.0 * N * std::sin(1.0 / N));
@@ -66,7 +66,7 @@ inline double sine_integral_value(unsigned n) {
 // H on the n x-qubits, then Ry rotations of the out qubit (qubit n) whose angles add up to
 // 2 (x + 1/2) / 2^n: one unconditional Ry(2 * (1/2) / 2^n) and, for each bit i, Ry(2 * 2^i / 2^n)
 // controlled on x_i = 1. Good = out is 1.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline estimation_problem sine_integral_problem(unsigned n) {
   if (n < 1 || n > 24)
     throw std::invalid_argument("sine_integral_problem: n must be in [1, 24], got " + std::to_string(n));

@@ -42,7 +42,7 @@
 #include <utility>
 #include <vector>
 
-#include "../random.hpp"
+#include "../support/random.hpp"
 #include "detail/stats.hpp"
 #include "oracle.hpp"
 #include "result.hpp"

@@ -21,7 +21,7 @@
 namespace qrm::io {
 
 // csv_number(v): v as "%.17g" (round-trips through strtod), or "nan", "inf", "-inf".
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::string csv_number(double v) {
   char buf[64];
   const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 17);
@@ -29,7 +29,7 @@ inline std::string csv_number(double v) {
 }
 
 // csv_quote(field): the field as it appears in a CSV line (quoted only when needed).
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::string csv_quote(std::string_view field) {
   const bool edge_space = !field.empty() && (field.front() == ' ' || field.front() == '\t' || field.back() == ' ' ||
                                              field.back() == '\t');
@@ -96,7 +96,7 @@ class table {
 };
 
 // to_csv(t): the header line and one line per row, each ending in "\n".
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::string to_csv(const table& t) {
   std::string out;
   auto line = [&out](const auto& fields, auto to_text) {
@@ -114,7 +114,7 @@ inline std::string to_csv(const table& t) {
 // to_markdown(t, significant_digits): a GitHub-flavoured Markdown table; columns whose cells are
 // all numbers are right-aligned, real numbers get `significant_digits` (1..17) significant
 // digits, and '|' and '\' in text are escaped. Text with a line break is std::invalid_argument.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::string to_markdown(const table& t, int significant_digits = 6) {
   if (significant_digits < 1 || significant_digits > 17)
     throw std::invalid_argument("to_markdown: significant_digits " + std::to_string(significant_digits) +
@@ -147,9 +147,9 @@ inline std::string to_markdown(const table& t, int significant_digits = 6) {
 }
 
 // write_csv(path, t) / write_markdown(path, t, digits): write the table atomically.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void write_csv(const std::filesystem::path& path, const table& t) { write_file_atomically(path, to_csv(t)); }
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void write_markdown(const std::filesystem::path& path, const table& t, int significant_digits = 6) {
   write_file_atomically(path, to_markdown(t, significant_digits));
 }

@@ -32,10 +32,10 @@ struct rgb {
 
 namespace qrm::detail {
 
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::string size_text(std::size_t w, std::size_t h) { return std::to_string(w) + "x" + std::to_string(h); }
 
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::string float_text(double v) {
   if (std::isnan(v)) return "nan";
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
@@ -112,11 +112,11 @@ struct tone_map {
 
 namespace qrm::detail {
 
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline const char* channel_name(int c) { return c == 0 ? "R" : c == 1 ? "G" : "B"; }
 
 // Throws std::invalid_argument naming the first pixel and channel that is NaN or infinite.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void require_finite(const io::image& img, const char* who) {
   for (std::size_t y = 0; y < img.height(); ++y)
     for (std::size_t x = 0; x < img.width(); ++x) {
@@ -130,14 +130,14 @@ inline void require_finite(const io::image& img, const char* who) {
     }
 }
 
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void require_same_size(const io::image& a, const io::image& b, const char* who) {
   if (a.width() != b.width() || a.height() != b.height())
     throw std::invalid_argument(std::string(who) + ": image sizes differ (" + size_text(a.width(), a.height()) +
                                 " vs " + size_text(b.width(), b.height()) + ")");
 }
 
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void require_nonempty(const io::image& img, const char* who) {
   if (img.empty()) throw std::invalid_argument(std::string(who) + ": the image is empty (0x0)");
 }
@@ -150,7 +150,7 @@ struct bilinear_tap {
   std::size_t lo, hi;
   double t;  // weight of `hi`
 };
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline bilinear_tap bilinear_position(std::size_t i, std::size_t n_in, std::size_t n_out) {
   const long long num = static_cast<long long>((2 * i + 1) * n_in) - static_cast<long long>(n_out);
   const long long den = static_cast<long long>(2 * n_out);
@@ -160,7 +160,7 @@ inline bilinear_tap bilinear_position(std::size_t i, std::size_t n_in, std::size
   return {lo, lo + 1, static_cast<double>(num % den) / static_cast<double>(den)};
 }
 
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void require_output_size(std::size_t w, std::size_t h, const char* who) {
   if (w == 0 || h == 0)
     throw std::invalid_argument(std::string(who) + ": output size " + size_text(w, h) + " must be positive");
@@ -172,14 +172,14 @@ namespace qrm::io {
 
 // encode_display(v, curve): the display value in [0, 1] of a linear value v already clamped to
 // [0, 1].
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline double encode_display(double v, transfer_curve curve) {
   if (curve == transfer_curve::gamma22) return std::pow(v, 1.0 / 2.2);
   return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
 }
 
 // decode_display(d, curve): the inverse of encode_display, for d in [0, 1].
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline double decode_display(double d, transfer_curve curve) {
   if (curve == transfer_curve::gamma22) return std::pow(d, 2.2);
   return d <= 0.04045 ? d / 12.92 : std::pow((d + 0.055) / 1.055, 2.4);
@@ -187,7 +187,7 @@ inline double decode_display(double d, transfer_curve curve) {
 
 // to_8bit(linear, tm): one channel through the tone map (see tone_map); std::invalid_argument if
 // `linear` is NaN or infinite or the exposure is not finite and positive.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::uint8_t to_8bit(float linear, tone_map tm = {}) {
   if (!std::isfinite(linear) || !(std::isfinite(tm.exposure) && tm.exposure > 0))
     throw std::invalid_argument("to_8bit: value " + detail::float_text(linear) + " with exposure " +
@@ -199,7 +199,7 @@ inline std::uint8_t to_8bit(float linear, tone_map tm = {}) {
 
 // to_srgb8(img, tm): the 8-bit RGB image to write; std::invalid_argument for an empty image, an
 // exposure that is not finite and positive, or a NaN/infinite pixel (named).
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline image8 to_srgb8(const image& img, tone_map tm = {}) {
   detail::require_nonempty(img, "to_srgb8");
   if (!(std::isfinite(tm.exposure) && tm.exposure > 0))
@@ -223,7 +223,7 @@ inline image8 to_srgb8(const image& img, tone_map tm = {}) {
 // centres (the half cell at each border) the value is held constant at the edge cell's value
 // (clamp to edge). With an odd integer scale factor k, output pixel k c + (k - 1)/2 lies exactly
 // on the centre of cell c and gets exactly its value.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline image upsample_bilinear(const image& src, std::size_t width, std::size_t height) {
   detail::require_nonempty(src, "upsample_bilinear");
   detail::require_output_size(width, height, "upsample_bilinear");
@@ -248,7 +248,7 @@ inline image upsample_bilinear(const image& src, std::size_t width, std::size_t 
 }
 
 // upsample_bilinear(src, factor): the same with width and height multiplied by `factor`.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline image upsample_bilinear(const image& src, std::size_t factor) {
   return upsample_bilinear(src, src.width() * factor, src.height() * factor);
 }
@@ -256,7 +256,7 @@ inline image upsample_bilinear(const image& src, std::size_t factor) {
 // upsample_nearest(src, width, height): each output pixel takes the source cell its centre falls
 // in (cell floor((i + 1/2) * src.width() / width)); with an integer factor every cell becomes a
 // factor x factor block.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline image upsample_nearest(const image& src, std::size_t width, std::size_t height) {
   detail::require_nonempty(src, "upsample_nearest");
   detail::require_output_size(width, height, "upsample_nearest");
@@ -272,13 +272,13 @@ inline image upsample_nearest(const image& src, std::size_t width, std::size_t h
 }
 
 // upsample_nearest(src, factor): the same with width and height multiplied by `factor`.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline image upsample_nearest(const image& src, std::size_t factor) {
   return upsample_nearest(src, src.width() * factor, src.height() * factor);
 }
 
 // absolute_difference(a, b): per channel |a - b|; std::invalid_argument if the sizes differ.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline image absolute_difference(const image& a, const image& b) {
   detail::require_same_size(a, b, "absolute_difference");
   image out(a.width(), a.height());
@@ -297,7 +297,7 @@ inline image absolute_difference(const image& a, const image& b) {
 // exposure 1 shows the display colours. Display luminance rises strictly from black to pale
 // yellow, so brighter always means larger error, also in grey-scale print.
 // NaN is std::invalid_argument.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline rgb error_ramp(float t) {
   if (std::isnan(t)) throw std::invalid_argument("error_ramp: t is nan");
   static constexpr float stops[5][3] = {
@@ -314,7 +314,7 @@ inline rgb error_ramp(float t) {
 // false_colour(err, max_value): each pixel's error (the mean of its three channels) mapped
 // through error_ramp(error / max_value). max_value must be finite and positive; NaN/infinite
 // pixels are an error (named).
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline image false_colour(const image& err, float max_value) {
   detail::require_nonempty(err, "false_colour");
   if (!(std::isfinite(max_value) && max_value > 0))
@@ -331,7 +331,7 @@ inline image false_colour(const image& err, float max_value) {
 }
 
 // false_colour(err): the same scaled to the largest pixel error (all-zero maps to black).
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline image false_colour(const image& err) {
   detail::require_nonempty(err, "false_colour");
   detail::require_finite(err, "false_colour");
@@ -343,7 +343,7 @@ inline image false_colour(const image& err) {
 // side_by_side(panels, gap, background): the panels left to right with `gap` background pixels
 // between them; the result is as tall as the tallest panel and a shorter panel of height h starts
 // at row (height - h) / 2 (rounded down), i.e. centred. std::invalid_argument if there is no panel or a panel is empty.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline image side_by_side(std::span<const image> panels, std::size_t gap = 4, rgb background = {1, 1, 1}) {
   if (panels.empty()) throw std::invalid_argument("side_by_side: no panels");
   std::size_t width = 0, height = 0;
@@ -365,7 +365,7 @@ inline image side_by_side(std::span<const image> panels, std::size_t gap = 4, rg
 }
 
 // side_by_side(a, b, gap, background): two panels.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline image side_by_side(const image& a, const image& b, std::size_t gap = 4, rgb background = {1, 1, 1}) {
   const image both[2] = {a, b};
   return side_by_side(std::span<const image>(both), gap, background);
@@ -378,7 +378,7 @@ struct image_stats {
 };
 
 // stats(img): smallest, largest and mean channel value; NaN/infinite pixels are an error.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline image_stats stats(const image& img) {
   detail::require_nonempty(img, "stats");
   detail::require_finite(img, "stats");
@@ -396,7 +396,7 @@ inline image_stats stats(const image& img) {
 
 // rmse(a, b): sqrt(mean over every channel of every pixel of (a - b)^2); sizes must match and
 // values be finite.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline double rmse(const image& a, const image& b) {
   detail::require_same_size(a, b, "rmse");
   detail::require_nonempty(a, "rmse");

@@ -26,13 +26,13 @@
 
 namespace qrm::detail {
 
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void put_le32(std::vector<std::uint8_t>& out, float v) {
   const auto u = std::bit_cast<std::uint32_t>(v);
   for (int shift = 0; shift < 32; shift += 8) out.push_back(static_cast<std::uint8_t>(u >> shift));
 }
 
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::vector<std::uint8_t> read_whole_file(const std::filesystem::path& path, const char* who) {
   errno = 0;
   std::FILE* f = std::fopen(path.string().c_str(), "rb");
@@ -53,7 +53,7 @@ inline std::vector<std::uint8_t> read_whole_file(const std::filesystem::path& pa
 }
 
 // Printable rendering of a header token for error messages.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::string quoted_token(std::string_view s) {
   std::string r = "'";
   for (char c : s.substr(0, 40)) {
@@ -74,7 +74,7 @@ inline std::string quoted_token(std::string_view s) {
 namespace qrm::io {
 
 // write_pfm(path, img): writes a colour PFM (little-endian, rows bottom to top) atomically.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void write_pfm(const std::filesystem::path& path, const image& img) {
   detail::require_nonempty(img, "write_pfm");
   const std::string header = "PF\n" + std::to_string(img.width()) + " " + std::to_string(img.height()) + "\n-1.0\n";
@@ -97,7 +97,7 @@ inline void write_pfm(const std::filesystem::path& path, const image& img) {
 
 // parse_pfm(bytes, name): the image in a PFM file's bytes; std::invalid_argument naming `name`
 // and the problem for a bad magic, size, scale, or a pixel data length that does not match.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline image parse_pfm(std::span<const std::uint8_t> bytes, const std::string& name = "PFM data") {
   const std::string who = "read_pfm: '" + name + "'";
   std::size_t pos = 0;
@@ -176,7 +176,7 @@ inline image parse_pfm(std::span<const std::uint8_t> bytes, const std::string& n
 
 // read_pfm(path): reads a PFM file (see parse_pfm for the errors; std::runtime_error with the
 // errno text if the file cannot be read).
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline image read_pfm(const std::filesystem::path& path) {
   return parse_pfm(detail::read_whole_file(path, "read_pfm"), path.string());
 }

@@ -33,7 +33,7 @@ inline constexpr std::array<std::uint32_t, 256> crc32_table = [] {
   return t;
 }();
 
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void put_be32(std::vector<std::uint8_t>& out, std::uint32_t v) {
   for (int shift = 24; shift >= 0; shift -= 8) out.push_back(static_cast<std::uint8_t>(v >> shift));
 }
@@ -45,7 +45,7 @@ namespace qrm::io {
 // crc32(bytes, previous): the CRC-32 of PNG and zlib (reflected polynomial 0xEDB88320, initial
 // and final XOR 0xFFFFFFFF). Passing the CRC of earlier bytes as `previous` continues it, so
 // crc32(b, crc32(a)) == crc32(a followed by b).
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::uint32_t crc32(std::span<const std::uint8_t> bytes, std::uint32_t previous = 0) {
   std::uint32_t c = previous ^ 0xFFFFFFFFu;
   for (std::uint8_t b : bytes) c = detail::crc32_table[(c ^ b) & 0xFFu] ^ (c >> 8);
@@ -54,7 +54,7 @@ inline std::uint32_t crc32(std::span<const std::uint8_t> bytes, std::uint32_t pr
 
 // adler32(bytes, previous): the Adler-32 checksum of zlib (sums modulo 65521, starting at 1).
 // Passing the checksum of earlier bytes as `previous` continues it.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::uint32_t adler32(std::span<const std::uint8_t> bytes, std::uint32_t previous = 1) {
   constexpr std::uint32_t mod = 65521;
   // 5552 is the largest n for which 255 n (n + 1) / 2 + (n + 1) (mod - 1) fits in 32 bits, so the
@@ -76,7 +76,7 @@ inline std::uint32_t adler32(std::span<const std::uint8_t> bytes, std::uint32_t 
 // encode_png(img): the bytes of the PNG file for an 8-bit image (channels 1 or 3). Throws
 // std::invalid_argument naming the problem for a zero or too large size, another channel count,
 // or a data size that does not match width x height x channels.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::vector<std::uint8_t> encode_png(const image8& img) {
   constexpr std::size_t png_max = 0x7FFFFFFF;  // PNG's limit on sizes and chunk lengths
   if (img.width == 0 || img.height == 0 || img.width > png_max || img.height > png_max)
@@ -144,7 +144,7 @@ inline std::vector<std::uint8_t> encode_png(const image8& img) {
 }
 
 // write_png(path, img): writes an 8-bit image as a PNG, atomically (see atomic_file.hpp).
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void write_png(const std::filesystem::path& path, const image8& img) {
   const std::vector<std::uint8_t> bytes = encode_png(img);
   write_file_atomically(path, [&bytes](file_sink& out) { out.write(bytes.data(), bytes.size()); });
@@ -152,7 +152,7 @@ inline void write_png(const std::filesystem::path& path, const image8& img) {
 
 // write_png(path, img, tm): tone maps a linear image to 8-bit sRGB (to_srgb8, which rejects
 // NaN/infinite pixels by name) and writes it as a PNG.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void write_png(const std::filesystem::path& path, const image& img, tone_map tm = {}) {
   write_png(path, to_srgb8(img, tm));
 }

@@ -66,7 +66,7 @@ struct line_fit {
 namespace qrm::detail {
 
 // Fixed-point text with `decimals` digits, never "-0".
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::string fixed_text(double v, int decimals) {
   char buf[64];
   auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
@@ -76,7 +76,7 @@ inline std::string fixed_text(double v, int decimals) {
   return s;
 }
 
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::string general_text(double v) {
   char buf[64];
   auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 6);
@@ -86,7 +86,7 @@ inline std::string general_text(double v) {
 // Text for XML content and attribute values: & < > " ' escaped. Text must be UTF-8 without
 // control characters other than tab, newline and carriage return (XML 1.0 forbids them);
 // anything else is std::invalid_argument naming `what` and the byte offset.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::string xml_escape(std::string_view s, const std::string& what) {
   std::string out;
   out.reserve(s.size());
@@ -135,7 +135,7 @@ inline std::string xml_escape(std::string_view s, const std::string& what) {
   return out;
 }
 
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::string checked_colour(const std::string& colour, const std::string& series) {
   auto hex = [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F'); };
   auto alpha = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); };
@@ -166,7 +166,7 @@ struct plot_axis {
 
 // The shown range extends 3% beyond the outer ticks, so markers on the outer ticks (often the
 // data's extremes) are not cut by the frame.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void pad_axis(plot_axis& a) {
   const double pad = 0.03 * (a.hi - a.lo);
   a.lo -= pad;
@@ -174,7 +174,7 @@ inline void pad_axis(plot_axis& a) {
 }
 
 // make_axis(lo, hi, log, have_data): the axis for data in [lo, hi] (axis coordinates).
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline plot_axis make_axis(double lo, double hi, bool log, bool have_data) {
   plot_axis a;
   if (log) {
@@ -227,7 +227,7 @@ namespace qrm::io {
 
 // fit_line(x, y): ordinary least squares of y on x. std::invalid_argument for different lengths,
 // fewer than 2 points, a non-finite value (named by index), or all x equal.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline line_fit fit_line(std::span<const double> x, std::span<const double> y) {
   if (x.size() != y.size())
     throw std::invalid_argument("fit_line: " + std::to_string(x.size()) + " x values but " +
@@ -267,7 +267,7 @@ inline line_fit fit_line(std::span<const double> x, std::span<const double> y) {
 
 // fit_log_log(x, y): least squares of log10(y) on log10(x), i.e. y = 10^intercept x^slope.
 // std::invalid_argument as fit_line, and for any x or y that is not positive (named by index).
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline line_fit fit_log_log(std::span<const double> x, std::span<const double> y) {
   if (x.size() != y.size())
     throw std::invalid_argument("fit_log_log: " + std::to_string(x.size()) + " x values but " +
@@ -288,7 +288,7 @@ inline line_fit fit_log_log(std::span<const double> x, std::span<const double> y
 // mismatched lengths, non-finite data, non-positive data on a log10 axis, a bad colour, a fit
 // that cannot be made (fewer than 2 points, all x equal), invalid UTF-8 or control characters in
 // text, or a size below 200 x 150.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline std::string render_svg(const plot& p) {
   using detail::fixed_text;
   if (p.width < 200 || p.height < 150 || p.width > 100000 || p.height > 100000)
@@ -523,7 +523,7 @@ inline std::string render_svg(const plot& p) {
 }
 
 // write_svg(path, p): renders the plot and writes it atomically.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void write_svg(const std::filesystem::path& path, const plot& p) { write_file_atomically(path, render_svg(p)); }
 
 }  // namespace qrm::io

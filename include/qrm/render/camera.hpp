@@ -11,9 +11,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "../detail/vec3.hpp"
-#include "../random.hpp"
-#include "../scene.hpp"
+#include "detail/vec3.hpp"
+#include "../support/random.hpp"
+#include "../walk/scene.hpp"
 
 namespace qrm::render {
 

@@ -23,8 +23,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "../detail/vec3.hpp"
-#include "../scene.hpp"
+#include "detail/vec3.hpp"
+#include "../walk/scene.hpp"
 
 namespace qrm::render {
 
@@ -44,7 +44,7 @@ struct voxel_hit {
 };
 
 // stops_ray(scene, index, options): whether a voxel ends the traversal.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline bool stops_ray(const scene& s, std::size_t index, const dda_options& o = {}) {
   const material k = s[index].kind;
   return k != material::air && (k != material::boundary || o.stop_at_boundary);
@@ -52,7 +52,7 @@ inline bool stops_ray(const scene& s, std::size_t index, const dda_options& o = 
 
 // first_hit(scene, origin, direction, options): the first voxel along the ray that stops it.
 // `direction` need not be unit length (t is in units of it); origins outside the grid are fine.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline voxel_hit first_hit(const scene& s, const vec3& origin, const vec3& direction, const dda_options& opt = {}) {
   if (s.dims() != 3) throw std::invalid_argument("first_hit: scene '" + s.name() + "' is not 3D");
   if (!qrm::detail::vec_finite(origin) || !qrm::detail::vec_finite(direction) || !(norm(direction) > 0))

@@ -16,12 +16,12 @@
 #include <string>
 #include <vector>
 
-#include "../classical.hpp"
-#include "../detail/parallel.hpp"
+#include "../walk/classical.hpp"
+#include "../support/parallel.hpp"
 #include "../estimation/estimator.hpp"
 #include "../estimation/oracle.hpp"
-#include "../lightmap.hpp"
-#include "../walk.hpp"
+#include "../walk/lightmap.hpp"
+#include "../walk/circuit.hpp"
 #include "quantum.hpp"
 
 namespace qrm::render {
@@ -38,7 +38,7 @@ struct study_cell {
 
 // study_cells(model, steps, max_cells): the cells of a 2D light map with light reaching them
 // (exact P(out = 1) > 0), every channel, up to max_cells of them spread evenly.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 std::vector<study_cell> study_cells(const walk_model& m, unsigned steps, std::size_t max_cells) {
   const scene& sc = m.scene_data();
   std::vector<study_cell> all;

@@ -25,15 +25,15 @@
 #include <vector>
 
 #include "../backends/compact.hpp"
-#include "../classical.hpp"
-#include "../detail/parallel.hpp"
+#include "../walk/classical.hpp"
+#include "../support/parallel.hpp"
 #include "../estimation/estimator.hpp"
 #include "../estimation/oracle.hpp"
 #include "../estimation/problem.hpp"
-#include "../lightmap.hpp"
-#include "../walk.hpp"
-#include "image.hpp"
-#include "render_classical.hpp"
+#include "../walk/lightmap.hpp"
+#include "../walk/circuit.hpp"
+#include "tiles.hpp"
+#include "classical.hpp"
 
 namespace qrm::render {
 
@@ -67,7 +67,7 @@ struct quantum_estimate {
 namespace detail {
 
 // P(out = 1) of a walk program and an estimate of it, for one (start, channel).
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline quantum_estimate estimate_walk(const walk_model& m, const walk_start& start, int channel,
                                       const quantum_options& o, rng& g) {
   walk_options wo;
@@ -139,7 +139,7 @@ std::vector<quantum_estimate> per_start_and_channel(const scene& sc, std::size_t
 // estimate_lightmap(model, options): every cell of a 2D scene (index x + N y) and channel,
 // indexed cell * 3 + channel; the start is the light-map start (cell centre, all directions in
 // air, into the surface otherwise), as the paper's Fig. 4.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 std::vector<quantum_estimate> estimate_lightmap(const walk_model& m, const quantum_options& o) {
   const scene& sc = m.scene_data();
   const pixel_range range = tile_pixels(sc.voxel_count(), o.part);
@@ -154,7 +154,7 @@ struct lightmap_images {
   image estimated, exact, classical;
 };
 
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline lightmap_images lightmap_as_images(const scene& sc, std::span<const quantum_estimate> cells) {
   if (sc.dims() != 2) throw std::invalid_argument("lightmap_as_images: a 2D scene is needed");
   lightmap_images im{image(sc.size(), sc.size()), image(sc.size(), sc.size()), image(sc.size(), sc.size())};
@@ -178,7 +178,7 @@ struct quantum_image {
 };
 
 // render_quantum(model, camera, options): every pixel from its own 3D walk circuit.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 quantum_image render_quantum(const walk_model& m, const camera& cam, const quantum_options& o) {
   const auto px = pixel_starts(m, cam, o.part, o.threads);
   const pixel_range r = tile_pixels(static_cast<std::size_t>(cam.width()) * cam.height(), o.part);
@@ -212,7 +212,7 @@ quantum_image render_quantum(const walk_model& m, const camera& cam, const quant
 // amplitude_path_estimator(settings): for render_emulated: the K sampled contributions give
 // a = mean(f) / (S * scale) (the Path gate's P(out = 1) on the K-path state); the estimator's
 // answer is scaled back. An analytic oracle: the emulator's state is classical anyway.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline path_estimator amplitude_path_estimator(estimator_settings settings) {
   return [settings](const std::vector<double>& f, unsigned steps, double emission_scale, rng& g) {
     double mean = 0;

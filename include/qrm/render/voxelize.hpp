@@ -32,8 +32,8 @@
 #include <string>
 #include <vector>
 
-#include "../detail/vec3.hpp"
-#include "../scene.hpp"
+#include "detail/vec3.hpp"
+#include "../walk/scene.hpp"
 #include "camera.hpp"
 
 namespace qrm::render {
@@ -75,14 +75,14 @@ inline constexpr unsigned all_box_faces = 63;
 
 namespace qrm::detail {
 
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void check_unit_vector(const vec3& v, const char* what) {
   if (!vec_finite(v) || std::abs(norm(v) - 1.0) > 1e-9)
     throw std::invalid_argument(std::string("voxelizer: ") + what + " must be a unit vector");
 }
 
 // The rectangle meets the closed unit cube centred at c (separating axis test).
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline bool rectangle_meets_cube(const render::rectangle& r, const vec3& c) {
   const vec3 d = vec_sub(r.centre, c);
   auto separated = [&](const vec3& l) {
@@ -107,7 +107,7 @@ inline bool rectangle_meets_cube(const render::rectangle& r, const vec3& c) {
   return true;
 }
 
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline double rectangle_distance(const render::rectangle& r, const vec3& p) {
   const vec3 d = vec_sub(p, r.centre);
   const double a = dot(d, r.u), b = dot(d, r.v), w = dot(d, r.normal);
@@ -116,7 +116,7 @@ inline double rectangle_distance(const render::rectangle& r, const vec3& p) {
 }
 
 // The sphere's surface meets the closed unit cube centred at c.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline bool sphere_meets_cube(const render::sphere& s, const vec3& c) {
   double near2 = 0, far2 = 0;
   for (std::size_t a = 0; a < 3; ++a) {
@@ -352,7 +352,7 @@ struct cornell_frame {
   vec3 at(const vec3& mm) const { return {at(mm[0]), at(mm[1]), at(mm[2])}; }
 };
 
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void check_box_scene_size(const char* what, unsigned n) {
   if (n < 8 || (n & (n - 1)) != 0 || n > 1024)
     throw std::invalid_argument(std::string(what) +
@@ -362,7 +362,7 @@ inline void check_box_scene_size(const char* what, unsigned n) {
 }
 
 // The room: walls at the faces of [1.5, N-1.5]^3 facing in, the -z face open.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline render::oriented_box room_box(unsigned n) {
   const double c = static_cast<double>(n) / 2.0, h = (static_cast<double>(n) - 3.0) / 2.0;
   return {{c, c, c}, {vec3{1, 0, 0}, vec3{0, 1, 0}, vec3{0, 0, 1}}, {h, h, h}};
@@ -372,7 +372,7 @@ inline constexpr unsigned room_faces = render::all_box_faces & ~render::box_face
 // A block resting on the floor, from its published top face (corners in order, millimetres) and
 // height: centre = mean of the corners, axes from the edges (orthonormalised), extents = mean of
 // opposite edge lengths. The published blocks are squares and rectangles to within 2 mm.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline render::oriented_box published_block(const cornell_frame& fr, const std::array<std::array<double, 2>, 4>& xz,
                                             double height_mm) {
   auto edge = [&](int i, int j) {
@@ -395,7 +395,7 @@ inline render::oriented_box published_block(const cornell_frame& fr, const std::
 // Marks the ceiling voxels (layer N - 2) whose centres lie in the rectangle [x0, x1] x [z0, z1]
 // (voxel coordinates) as emitters; if that is none (a light smaller than a voxel), the voxel
 // holding the rectangle's centre.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline void paint_ceiling_light(scene& sc, double x0, double x1, double z0, double z1, const rgb& emission) {
   const unsigned y = sc.size() - 2;
   bool any = false;
@@ -430,7 +430,7 @@ inline constexpr rgb cornell_green{0.14, 0.45, 0.091};
 //     centres lie in it (at least one voxel), flush with the ceiling and keeping the ceiling's
 //     white reflectance; emission defaults to the common RGB radiance (17, 12, 4).
 // Red wall at large x (seen on the left by box_scene_camera), green wall at x small.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline scene cornell_box(unsigned size, const rgb& light_emission = {17, 12, 4}) {
   qrm::detail::check_box_scene_size("cornell_box", size);
   const qrm::detail::cornell_frame fr(size);
@@ -455,7 +455,7 @@ inline scene cornell_box(unsigned size, const rgb& light_emission = {17, 12, 4})
 // spheres resting on the floor: a large blue one (radius 110 mm, at x = 385, z = 330 mm, seen
 // on the left) and a small orange one (radius 70 mm, at x = 160, z = 200 mm, on the right).
 // Same room, shell and units as cornell_box.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline scene two_spheres(unsigned size, const rgb& light_emission = {10, 10, 10}) {
   qrm::detail::check_box_scene_size("two_spheres", size);
   const qrm::detail::cornell_frame fr(size);
@@ -474,7 +474,7 @@ inline scene two_spheres(unsigned size, const rgb& light_emission = {10, 10, 10}
 // mm looking along +z, up +y, 35 mm lens on 25 mm film: vertical field of view 2 atan(12.5/35)
 // = 39.3 degrees) in the voxel coordinates of cornell_box(N) and two_spheres(N). It sits
 // outside the grid and sees the room through its open front.
-template <int = 0>  // instantiated only where called: keeps qrm.hpp quick to compile
+template <int = 0>
 inline camera box_scene_camera(unsigned size, unsigned width, unsigned height) {
   qrm::detail::check_box_scene_size("box_scene_camera", size);
   const qrm::detail::cornell_frame fr(size);

@@ -1,0 +1,9 @@
+// qrm/backends.hpp: simulators that run circuits and programs (kernels in backends/detail/).
+//   backends/dense.hpp     state_vector<S>: all 2^n amplitudes (S = complex or real, double or float)
+//   backends/compact.hpp   compact_state<S, L>: only the nonzero amplitudes (labels uint64_t or wide_label<W>)
+//   backends/measure.hpp   probabilities, distributions and samples through a layout
+#pragma once
+
+#include "backends/dense.hpp"
+#include "backends/compact.hpp"
+#include "backends/measure.hpp"

@@ -1,0 +1,101 @@
+// qrm/backends/detail/bits.hpp: bit manipulation for basis-state indices.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <stdexcept>
+#include <string>
+
+#include "../../circuit/ops.hpp"
+
+namespace qrm::detail {
+
+// Insert a zero bit at position p (bits at p and above move up by one).
+constexpr std::uint64_t insert_zero(std::uint64_t k, unsigned p) {
+  const std::uint64_t low = k & ((std::uint64_t{1} << p) - 1);
+  return ((k >> p) << (p + 1)) | low;
+}
+
+// Spread the low bits of v onto the given positions (bit i of v -> bit positions[i]).
+inline std::uint64_t deposit(std::uint64_t v, std::span<const qubit_index> positions) {
+  std::uint64_t r = 0;
+  for (std::size_t i = 0; i < positions.size(); ++i) r |= ((v >> i) & 1u) << positions[i];
+  return r;
+}
+
+// Gather the bits at the given positions into a number (inverse of deposit).
+inline std::uint64_t gather(std::uint64_t index, std::span<const qubit_index> positions) {
+  std::uint64_t r = 0;
+  for (std::size_t i = 0; i < positions.size(); ++i) r |= ((index >> positions[i]) & 1u) << i;
+  return r;
+}
+
+// True when positions are consecutive and increasing (a register in a layout).
+inline bool contiguous(std::span<const qubit_index> positions) {
+  for (std::size_t i = 1; i < positions.size(); ++i)
+    if (positions[i] != positions[0] + i) return false;
+  return true;
+}
+
+// subspace: the indices i < 2^n whose bits at some fixed positions hold fixed values,
+// enumerated in increasing order as member 0, 1, ...; members come in contiguous runs of
+// 2^(lowest fixed position) indices.
+struct subspace {
+  unsigned n = 0;
+  std::uint64_t fixed_mask = 0, fixed_value = 0;
+  std::array<unsigned char, 64> pos{};  // fixed positions, increasing
+  unsigned npos = 0;
+
+  subspace(unsigned num_qubits, std::uint64_t mask, std::uint64_t value) : n(num_qubits), fixed_mask(mask), fixed_value(value & mask) {
+    for (unsigned b = 0; b < num_qubits; ++b)
+      if ((mask >> b) & 1u) pos[npos++] = static_cast<unsigned char>(b);
+  }
+  std::uint64_t count() const { return std::uint64_t{1} << (n - npos); }
+  unsigned run_log2() const { return npos == 0 ? n : pos[0]; }
+  std::uint64_t index(std::uint64_t k) const {
+    for (unsigned i = 0; i < npos; ++i) k = insert_zero(k, pos[i]);
+    return k | fixed_value;
+  }
+};
+
+// Mask and value of a list of controls; throws if a control is out of range or repeated.
+struct control_mask {
+  std::uint64_t mask = 0, value = 0;
+};
+inline control_mask make_control_mask(std::span<const control> cs, std::size_t n, const char* what) {
+  control_mask m;
+  for (const control& c : cs) {
+    if (c.qubit >= n)
+      throw std::invalid_argument(std::string(what) + ": control qubit " + std::to_string(c.qubit) + " is outside the " +
+                                  std::to_string(n) + "-qubit state");
+    const std::uint64_t b = std::uint64_t{1} << c.qubit;
+    if (m.mask & b)
+      throw std::invalid_argument(std::string(what) + ": qubit " + std::to_string(c.qubit) + " is controlled twice");
+    m.mask |= b;
+    if (c.value) m.value |= b;
+  }
+  return m;
+}
+
+// Mask of operand qubits; throws if out of range, repeated, or overlapping `taken`.
+inline std::uint64_t make_operand_mask(std::span<const qubit_index> qs, std::size_t n, std::uint64_t taken,
+                                       const char* what) {
+  std::uint64_t mask = 0;
+  for (qubit_index q : qs) {
+    if (q >= n)
+      throw std::invalid_argument(std::string(what) + ": qubit " + std::to_string(q) + " is outside the " +
+                                  std::to_string(n) + "-qubit state");
+    const std::uint64_t b = std::uint64_t{1} << q;
+    if ((mask | taken) & b)
+      throw std::invalid_argument(std::string(what) + ": qubit " + std::to_string(q) +
+                                  " is used twice (qubits_must_be_disjoint)");
+    mask |= b;
+  }
+  return mask;
+}
+
+}  // namespace qrm::detail

@@ -1,0 +1,497 @@
+// qrm/backends/detail/dense_kernels.hpp: in-place kernels on a dense array of 2^n amplitudes.
+//
+// Every kernel visits only the subspace where its controls hold (cost ~ 2^(n - controls)),
+// computes in double whatever the storage type (a float-rounded unitary is not unitary, and
+// reusing it 10^5 times drifts the norm by ~1e-3; double arithmetic keeps float states within
+// the unbiased rounding of storage),
+// works in place (permutations included), multiplies complex numbers by hand on (re, im) pairs
+// (std::complex's operator* carries NaN-recovery branches), and hands chunks of a fixed size to
+// the thread pool, so results never depend on the number of threads.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <complex>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <span>
+#include <type_traits>
+#include <vector>
+
+#include "../../circuit/ops.hpp"
+#include "bits.hpp"
+#include "scalar.hpp"
+#include "../../support/detail/thread_pool.hpp"
+
+namespace qrm {
+// How a multiplexed gate visits the state: each entry's subspace, or one sweep with a lookup.
+enum class mux_strategy : unsigned char { automatic, per_entry, sweep };
+}  // namespace qrm
+
+namespace qrm::detail {
+
+// Two doubles as one SSE2 register (GNU vector extension, supported by g++ >= 12 and clang).
+typedef double v2d __attribute__((vector_size(16)));
+
+// How kernels may use threads: at most `threads`, and only when a kernel touches at least
+// `min_parallel` amplitudes (below that, waking workers costs more than the loop).
+struct exec_policy {
+  unsigned threads = 1;
+  std::uint64_t min_parallel = std::uint64_t{1} << 16;
+  mux_strategy mux = mux_strategy::automatic;
+};
+
+// Members per chunk: fixed, so chunk boundaries (and per-chunk partial sums) do not depend on
+// the thread count.
+inline constexpr std::uint64_t chunk_members = std::uint64_t{1} << 13;
+
+// Calls f(first_index, length) for contiguous runs covering the members [k0, k1) of s
+// (k0 aligned to chunk_members, or 0).
+template <class F>
+inline void runs_in_range(const subspace& s, std::uint64_t k0, std::uint64_t k1, F& f) {
+  const std::uint64_t run = s.npos ? (std::uint64_t{1} << s.pos[0]) : s.count();
+  if (run >= k1 - k0) {
+    f(s.index(k0), k1 - k0);
+    return;
+  }
+  // Step from run to run by adding `run` to the free bits only (the fixed bits are set to 1 so
+  // the carry passes over them): three operations instead of s.index's loop over every fixed
+  // bit, which dominated scattered walks (C^12 X with low controls at n = 26 on an Intel Xeon VM:
+  // 330 -> 131 us). The chain is in registers, so the loads of successive runs still overlap.
+  const std::uint64_t fixed = s.fixed_mask;
+  std::uint64_t free = s.index(k0) & ~fixed;
+  for (std::uint64_t k = k0; k < k1; k += run) {
+    f(free | s.fixed_value, run);
+    free = ((free | fixed) + run) & ~fixed;
+  }
+}
+
+// Calls f(first_index, length) over all of s, in parallel chunks when worth it; `work` is the
+// number of amplitudes touched per member.
+template <class F>
+void for_each_run(const subspace& s, const exec_policy& ex, std::uint64_t work, F&& f) {
+  const std::uint64_t count = s.count();
+  if (ex.threads <= 1 || count <= chunk_members || count * work < ex.min_parallel) {
+    runs_in_range(s, 0, count, f);
+    return;
+  }
+  const std::uint64_t chunks = count / chunk_members;
+  shared_pool().parallel_for(static_cast<std::size_t>(chunks), ex.threads, [&](std::size_t i) {
+    runs_in_range(s, i * chunk_members, (i + 1) * chunk_members, f);
+  });
+}
+
+// Hint that a[i] will be written soon. The address is formed as an integer because it may lie
+// past the end of the vector near the last block (a prefetch never faults; pointer arithmetic
+// out of bounds would be undefined).
+template <class S>
+inline void prefetch_for_write(const S* a, std::uint64_t i) {
+  __builtin_prefetch(reinterpret_cast<const void*>(reinterpret_cast<std::uintptr_t>(a) + i * sizeof(S)), 1);
+}
+
+// Calls body(i) for every index i where the controls hold and the target bit is 0 (its partner
+// is i + 2^t). When the target lies below every control, the controls' runs are split into
+// blocks of 2^(t+1) and walked with plain nested loops, which the compiler turns into straight
+// (vectorisable) code even for target 0, instead of one call per pair.
+template <class S, class Body>
+void for_each_pair(const S* a, unsigned n, unsigned t, std::uint64_t cmask, std::uint64_t cvalue, const exec_policy& ex,
+                   std::uint64_t work, Body&& body) {
+  const std::uint64_t st = std::uint64_t{1} << t;
+  const subspace sc(n, cmask, cvalue);
+  const std::uint64_t run_c = sc.npos ? (std::uint64_t{1} << sc.pos[0]) : sc.count();
+  // Each run works on a local copy of `body`: the copy's captures cannot alias the amplitudes,
+  // so they stay in registers instead of being reloaded after every store.
+  // Chunks of the controls' subspace start at multiples of chunk_members, so blocks of 2^(t+1)
+  // never straddle two chunks as long as 2^(t+1) <= chunk_members.
+  if (run_c >= 2 * st && 2 * st <= chunk_members) {
+    constexpr std::uint64_t line = std::max<std::uint64_t>(1, 64 / sizeof(S));
+    if (st == 1) {  // pairs of neighbours: one flat loop the compiler vectorises
+      for_each_run(sc, ex, work / 2, [&](std::uint64_t i0, std::uint64_t len) {
+        auto local = body;
+        for (std::uint64_t j = i0; j < i0 + len; j += 2) local(j);
+      });
+    } else if (st < 4 * line) {
+      for_each_run(sc, ex, work / 2, [&](std::uint64_t i0, std::uint64_t len) {
+        auto local = body;
+        for (std::uint64_t b = i0; b < i0 + len; b += 2 * st)
+          for (std::uint64_t j = b; j < b + st; ++j) local(j);
+      });
+    } else {
+      // Two streams st apart that jump every st elements defeat the hardware prefetcher on
+      // this kind of machine (a 2^24-amplitude Ry ran at 19-24 GB/s for st = 64..1024 against
+      // 50-60 GB/s for other targets); prefetching both streams of the next block, 8 KiB
+      // further on, restores it.
+      constexpr std::uint64_t ahead = 8192 / sizeof(S);
+      for_each_run(sc, ex, work / 2, [&](std::uint64_t i0, std::uint64_t len) {
+        auto local = body;
+        for (std::uint64_t b = i0; b < i0 + len; b += 2 * st)
+          for (std::uint64_t j0 = b; j0 < b + st; j0 += line) {
+            prefetch_for_write(a, j0 + 2 * st + ahead);
+            prefetch_for_write(a, j0 + 3 * st + ahead);
+            for (std::uint64_t j = j0; j < j0 + line; ++j) local(j);
+          }
+      });
+    }
+  } else {
+    const subspace s(n, cmask | st, cvalue);
+    for_each_run(s, ex, work, [&](std::uint64_t i0, std::uint64_t len) {
+      auto local = body;
+      for (std::uint64_t j = i0; j < i0 + len; ++j) local(j);
+    });
+  }
+}
+
+// Sum over s of g(first_index, length), summed per chunk then in chunk order (deterministic).
+template <class G>
+double reduce_runs(const subspace& s, const exec_policy& ex, G&& g) {
+  const std::uint64_t count = s.count();
+  const std::uint64_t chunks = count <= chunk_members ? 1 : count / chunk_members;
+  const std::uint64_t per = count / chunks;
+  std::vector<double> partial(static_cast<std::size_t>(chunks), 0.0);
+  auto body = [&](std::size_t i) {
+    double acc = 0;
+    auto f = [&](std::uint64_t first, std::uint64_t len) { acc += g(first, len); };
+    runs_in_range(s, i * per, (i + 1) * per, f);
+    partial[i] = acc;
+  };
+  if (ex.threads <= 1 || chunks == 1 || count < ex.min_parallel) {
+    for (std::size_t i = 0; i < chunks; ++i) body(i);
+  } else {
+    shared_pool().parallel_for(static_cast<std::size_t>(chunks), ex.threads, body);
+  }
+  double total = 0;
+  for (double p : partial) total += p;
+  return total;
+}
+
+template <class S>
+double norm_of_run(const S* a, std::uint64_t first, std::uint64_t len) {
+  double acc = 0;
+  if constexpr (scalar_traits<S>::is_complex) {
+    using R = typename scalar_traits<S>::real;
+    const R* p = reinterpret_cast<const R*>(a + first);
+    for (std::uint64_t j = 0; j < 2 * len; ++j) acc += static_cast<double>(p[j]) * static_cast<double>(p[j]);
+  } else {
+    for (std::uint64_t j = 0; j < len; ++j) acc += static_cast<double>(a[first + j]) * static_cast<double>(a[first + j]);
+  }
+  return acc;
+}
+
+// ---- single-qubit gates ------------------------------------------------------------------
+
+template <class S>
+void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cmask, std::uint64_t cvalue,
+                  const exec_policy& ex) {
+  using R = typename scalar_traits<S>::real;
+  const std::uint64_t st = std::uint64_t{1} << t;
+  const bool is_x = g.m[0][0] == complex{} && g.m[1][1] == complex{} && g.m[0][1] == complex{1.0} &&
+                    g.m[1][0] == complex{1.0};
+  if (is_x) {
+    for_each_pair(a, n, t, cmask, cvalue, ex, 2, [=](std::uint64_t i) { std::swap(a[i], a[i + st]); });
+    return;
+  }
+  if (g.is_diagonal()) {
+    const complex d0 = g.m[0][0], d1 = g.m[1][1];
+    if constexpr (scalar_traits<S>::is_complex) {
+      R* p = reinterpret_cast<R*>(a);
+      const double d0r = d0.real(), d0i = d0.imag(), d1r = d1.real(), d1i = d1.imag();
+      auto scale = [p](std::uint64_t j, double cr, double ci) {
+        const double xr = p[2 * j], xi = p[2 * j + 1];
+        p[2 * j] = static_cast<R>(cr * xr - ci * xi);
+        p[2 * j + 1] = static_cast<R>(cr * xi + ci * xr);
+      };
+      if (d0 == complex{1.0})  // controlled-Z, phase: only the |1> half moves
+        for_each_pair(a, n, t, cmask, cvalue, ex, 1, [=](std::uint64_t i) { scale(i + st, d1r, d1i); });
+      else
+        for_each_pair(a, n, t, cmask, cvalue, ex, 2, [=](std::uint64_t i) {
+          scale(i, d0r, d0i);
+          scale(i + st, d1r, d1i);
+        });
+    } else {
+      const double d0r = d0.real(), d1r = d1.real();
+      if (d0 == complex{1.0})
+        for_each_pair(a, n, t, cmask, cvalue, ex, 1, [=](std::uint64_t i) { a[i + st] = static_cast<S>(d1r * a[i + st]); });
+      else
+        for_each_pair(a, n, t, cmask, cvalue, ex, 2, [=](std::uint64_t i) {
+          a[i] = static_cast<S>(d0r * a[i]);
+          a[i + st] = static_cast<S>(d1r * a[i + st]);
+        });
+    }
+    return;
+  }
+  if (g.is_real()) {
+    const double m00 = g.m[0][0].real(), m01 = g.m[0][1].real();
+    const double m10 = g.m[1][0].real(), m11 = g.m[1][1].real();
+    if constexpr (scalar_traits<S>::is_complex) {
+      R* p = reinterpret_cast<R*>(a);
+      for_each_pair(a, n, t, cmask, cvalue, ex, 2, [=](std::uint64_t i) {
+        R* lo = p + 2 * i;
+        R* hi = p + 2 * (i + st);
+        const double xr = lo[0], xi = lo[1], yr = hi[0], yi = hi[1];
+        lo[0] = static_cast<R>(m00 * xr + m01 * yr);
+        lo[1] = static_cast<R>(m00 * xi + m01 * yi);
+        hi[0] = static_cast<R>(m10 * xr + m11 * yr);
+        hi[1] = static_cast<R>(m10 * xi + m11 * yi);
+      });
+    } else {
+      for_each_pair(a, n, t, cmask, cvalue, ex, 2, [=](std::uint64_t i) {
+        const double x = a[i], y = a[i + st];
+        a[i] = static_cast<S>(m00 * x + m01 * y);
+        a[i + st] = static_cast<S>(m10 * x + m11 * y);
+      });
+    }
+    return;
+  }
+  if constexpr (std::is_same_v<S, std::complex<double>>) {
+    // One complex<double> is one 2-lane vector (re, im): z * w = w.re * (zr, zi) + w.im * (-zi, zr).
+    using v2 = v2d;
+    double* p = reinterpret_cast<double*>(a);
+    auto re_part = [](complex w) { return v2{w.real(), w.real()}; };
+    auto im_part = [](complex w) { return v2{-w.imag(), w.imag()}; };
+    const v2 ar = re_part(g.m[0][0]), ai = im_part(g.m[0][0]), br = re_part(g.m[0][1]), bi = im_part(g.m[0][1]);
+    const v2 cr = re_part(g.m[1][0]), ci = im_part(g.m[1][0]), dr = re_part(g.m[1][1]), di = im_part(g.m[1][1]);
+    for_each_pair(a, n, t, cmask, cvalue, ex, 2, [=](std::uint64_t i) {
+      v2 x, y;
+      std::memcpy(&x, p + 2 * i, sizeof x);
+      std::memcpy(&y, p + 2 * (i + st), sizeof y);
+      const v2 xs = __builtin_shufflevector(x, x, 1, 0), ys = __builtin_shufflevector(y, y, 1, 0);
+      const v2 lo = ar * x + ai * xs + br * y + bi * ys;
+      const v2 hi = cr * x + ci * xs + dr * y + di * ys;
+      std::memcpy(p + 2 * i, &lo, sizeof lo);
+      std::memcpy(p + 2 * (i + st), &hi, sizeof hi);
+    });
+  } else if constexpr (scalar_traits<S>::is_complex) {
+    R* p = reinterpret_cast<R*>(a);
+    const double ar = g.m[0][0].real(), ai = g.m[0][0].imag(), br = g.m[0][1].real(), bi = g.m[0][1].imag();
+    const double cr = g.m[1][0].real(), ci = g.m[1][0].imag(), dr = g.m[1][1].real(), di = g.m[1][1].imag();
+    for_each_pair(a, n, t, cmask, cvalue, ex, 2, [=](std::uint64_t i) {
+      R* lo = p + 2 * i;
+      R* hi = p + 2 * (i + st);
+      const double xr = lo[0], xi = lo[1], yr = hi[0], yi = hi[1];
+      lo[0] = static_cast<R>(ar * xr - ai * xi + br * yr - bi * yi);
+      lo[1] = static_cast<R>(ar * xi + ai * xr + br * yi + bi * yr);
+      hi[0] = static_cast<R>(cr * xr - ci * xi + dr * yr - di * yi);
+      hi[1] = static_cast<R>(cr * xi + ci * xr + dr * yi + di * yr);
+    });
+  }
+}
+
+// ---- dense k-qubit matrices -------------------------------------------------------------------
+
+// A matrix stored by rows of non-zero entries, in the backend's precision.
+template <class S>
+struct sparse_rows {
+  using R = typename scalar_traits<S>::real;
+  std::size_t dim = 0;
+  bool real = true;
+  std::vector<std::uint32_t> row_start, col;
+  std::vector<double> re, im;  // arithmetic in double even when amplitudes are stored in float
+
+  explicit sparse_rows(const dense_matrix& m) : dim(m.dim), real(m.is_real()) {
+    row_start.push_back(0);
+    for (std::size_t r = 0; r < dim; ++r) {
+      for (std::size_t c = 0; c < dim; ++c) {
+        const complex v = m(r, c);
+        if (v == complex{}) continue;
+        col.push_back(static_cast<std::uint32_t>(c));
+        re.push_back(v.real());
+        im.push_back(v.imag());
+      }
+      row_start.push_back(static_cast<std::uint32_t>(col.size()));
+    }
+  }
+
+  // out = M * in, for `in` gathered from the state.
+  void multiply(const S* in, S* out) const {
+    for (std::size_t r = 0; r < dim; ++r) {
+      if constexpr (scalar_traits<S>::is_complex) {
+        double accr = 0, acci = 0;
+        for (std::uint32_t e = row_start[r]; e < row_start[r + 1]; ++e) {
+          const double xr = in[col[e]].real(), xi = in[col[e]].imag();
+          accr += re[e] * xr - im[e] * xi;
+          acci += re[e] * xi + im[e] * xr;
+        }
+        out[r] = S(static_cast<R>(accr), static_cast<R>(acci));
+      } else {
+        double acc = 0;
+        for (std::uint32_t e = row_start[r]; e < row_start[r + 1]; ++e) acc += re[e] * in[col[e]];
+        out[r] = static_cast<S>(acc);
+      }
+    }
+  }
+};
+
+// Applies `m` at every base index (all targets 0) of the runs handed to it.
+template <class S>
+struct unitary_applier {
+  const sparse_rows<S>& m;
+  const std::vector<std::uint64_t>& offsets;
+  S* a;
+  void operator()(std::uint64_t i0, std::uint64_t len) const {
+    constexpr std::size_t stack_dim = 64;
+    std::array<S, stack_dim> in_s, out_s;
+    S* in = in_s.data();
+    S* out = out_s.data();
+    if (m.dim > stack_dim) {
+      thread_local std::vector<S> heap;  // reused: runs can be one base long
+      if (heap.size() < 2 * m.dim) heap.resize(2 * m.dim);
+      in = heap.data();
+      out = heap.data() + m.dim;
+    }
+    for (std::uint64_t b = i0; b < i0 + len; ++b) {
+      for (std::size_t r = 0; r < m.dim; ++r) in[r] = a[b + offsets[r]];
+      m.multiply(in, out);
+      for (std::size_t r = 0; r < m.dim; ++r) a[b + offsets[r]] = out[r];
+    }
+  }
+};
+
+inline std::vector<std::uint64_t> target_offsets(std::span<const qubit_index> targets) {
+  std::vector<std::uint64_t> off(std::size_t{1} << targets.size());
+  for (std::size_t r = 0; r < off.size(); ++r) off[r] = deposit(r, targets);
+  return off;
+}
+
+template <class S>
+void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qubit_index> targets,
+                    std::uint64_t tmask, std::uint64_t cmask, std::uint64_t cvalue, const exec_policy& ex) {
+  const sparse_rows<S> rows(m);
+  const auto offsets = target_offsets(targets);
+  const subspace s(n, cmask | tmask, cvalue);
+  for_each_run(s, ex, m.dim, unitary_applier<S>{rows, offsets, a});
+}
+
+// ---- add a constant modulo 2^k (a permutation, in place) ------------------------------------
+
+template <class S>
+void kernel_add(S* a, unsigned n, std::int64_t constant, std::span<const qubit_index> bits, std::uint64_t rmask,
+                std::uint64_t cmask, std::uint64_t cvalue, const exec_policy& ex) {
+  const std::size_t k = bits.size();
+  const std::uint64_t dim = std::uint64_t{1} << k, wrap = dim - 1;
+  const std::uint64_t shift = static_cast<std::uint64_t>(constant) & wrap;
+  if (shift == 0) return;
+  const auto offsets = target_offsets(bits);
+  const subspace s(n, cmask | rmask, cvalue);
+  // Bases are processed `block` at a time: rows of one register value are read contiguously
+  // into a small buffer, then written back to the shifted rows.
+  const std::uint64_t block = std::max<std::uint64_t>(1, (std::uint64_t{1} << 13) >> k);
+  for_each_run(s, ex, dim, [&](std::uint64_t i0, std::uint64_t len) {
+    thread_local std::vector<S> buf;  // reused: runs can be one base long
+    if (buf.size() < dim * std::min(block, len)) buf.resize(static_cast<std::size_t>(dim * std::min(block, len)));
+    for (std::uint64_t b0 = i0; b0 < i0 + len; b0 += block) {
+      const std::uint64_t w = std::min(block, i0 + len - b0);
+      for (std::uint64_t v = 0; v < dim; ++v) std::copy_n(a + b0 + offsets[v], w, buf.data() + v * w);
+      for (std::uint64_t v = 0; v < dim; ++v) std::copy_n(buf.data() + v * w, w, a + b0 + offsets[(v + shift) & wrap]);
+    }
+  });
+}
+
+// ---- multiplexed gates ------------------------------------------------------------------------
+
+// Visiting each entry's subspace costs a pass over its share of the state, but when the select
+// qubits sit inside a cache line every entry drags in whole lines; one sweep over everything
+// with a table lookup is cheaper then.
+inline bool mux_prefers_sweep(std::size_t entries, std::span<const qubit_index> select, std::size_t scalar_bytes,
+                              mux_strategy forced = mux_strategy::automatic) {
+  const std::size_t m = select.size();
+  if (m > 20) return false;
+  if (forced != mux_strategy::automatic) return forced == mux_strategy::sweep;
+  unsigned lowest = 64;
+  for (qubit_index q : select) lowest = std::min<unsigned>(lowest, q);
+  unsigned line_bits = 0;
+  while ((std::size_t{1} << (line_bits + 1)) * scalar_bytes <= 64) ++line_bits;
+  // Select qubits above the cache line: each entry's subspace is whole lines, visited with
+  // vectorised runs; a sweep would move as many bytes but look up every amplitude.
+  if (lowest >= line_bits) return false;
+  const double waste = static_cast<double>(std::uint64_t{1} << std::min<unsigned>(line_bits - lowest, static_cast<unsigned>(m)));
+  return static_cast<double>(entries) * waste >= static_cast<double>(std::uint64_t{1} << m);
+}
+
+// Select value of basis index i.
+struct select_reader {
+  std::span<const qubit_index> select;
+  bool contiguous_bits;
+  unsigned shift;
+  std::uint64_t mask;
+  explicit select_reader(std::span<const qubit_index> sel)
+      : select(sel), contiguous_bits(contiguous(sel)), shift(sel.empty() ? 0 : sel[0]),
+        mask(sel.size() >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << sel.size()) - 1) {}
+  std::uint64_t operator()(std::uint64_t i) const { return contiguous_bits ? (i >> shift) & mask : gather(i, select); }
+};
+
+template <class S>
+void kernel_mux1(S* a, unsigned n, std::span<const mux1_entry> entries, unsigned t, std::span<const qubit_index> select,
+                 std::uint64_t smask, std::uint64_t cmask, std::uint64_t cvalue, const exec_policy& ex) {
+  if (!mux_prefers_sweep(entries.size(), select, sizeof(S), ex.mux)) {
+    for (const mux1_entry& e : entries)
+      kernel_gate1(a, n, e.gate, t, cmask | smask, cvalue | deposit(e.select, select), ex);
+    return;
+  }
+  using R = typename scalar_traits<S>::real;
+  // Per select value: the 2x2 matrix in backend precision, or none.
+  std::vector<std::int32_t> slot(std::size_t{1} << select.size(), -1);
+  std::vector<std::array<double, 8>> mats;
+  for (const mux1_entry& e : entries) {
+    std::array<double, 8> mm{};
+    for (int r = 0; r < 2; ++r)
+      for (int c = 0; c < 2; ++c) {
+        mm[static_cast<std::size_t>(4 * r + 2 * c)] = e.gate.m[r][c].real();
+        mm[static_cast<std::size_t>(4 * r + 2 * c + 1)] = e.gate.m[r][c].imag();
+      }
+    slot[e.select] = static_cast<std::int32_t>(mats.size());
+    mats.push_back(mm);
+  }
+  const select_reader sel(select);
+  const std::uint64_t st = std::uint64_t{1} << t;
+  const subspace s(n, cmask | st, cvalue);
+  for_each_run(s, ex, 2, [&](std::uint64_t i0, std::uint64_t len) {
+    for (std::uint64_t i = i0; i < i0 + len; ++i) {
+      const std::int32_t id = slot[sel(i)];
+      if (id < 0) continue;
+      const auto& m = mats[static_cast<std::size_t>(id)];
+      if constexpr (scalar_traits<S>::is_complex) {
+        const double xr = a[i].real(), xi = a[i].imag(), yr = a[i + st].real(), yi = a[i + st].imag();
+        a[i] = S(static_cast<R>(m[0] * xr - m[1] * xi + m[2] * yr - m[3] * yi),
+                 static_cast<R>(m[0] * xi + m[1] * xr + m[2] * yi + m[3] * yr));
+        a[i + st] = S(static_cast<R>(m[4] * xr - m[5] * xi + m[6] * yr - m[7] * yi),
+                      static_cast<R>(m[4] * xi + m[5] * xr + m[6] * yi + m[7] * yr));
+      } else {
+        const double x = a[i], y = a[i + st];
+        a[i] = static_cast<S>(m[0] * x + m[2] * y);
+        a[i + st] = static_cast<S>(m[4] * x + m[6] * y);
+      }
+    }
+  });
+}
+
+template <class S>
+void kernel_mux_unitary(S* a, unsigned n, std::span<const dense_matrix> matrices,
+                        std::span<const mux_unitary_entry> entries, std::span<const qubit_index> targets,
+                        std::uint64_t tmask, std::span<const qubit_index> select, std::uint64_t smask, std::uint64_t cmask,
+                        std::uint64_t cvalue, const exec_policy& ex) {
+  std::vector<sparse_rows<S>> rows;
+  rows.reserve(matrices.size());
+  for (const dense_matrix& m : matrices) rows.emplace_back(m);
+  const auto offsets = target_offsets(targets);
+  if (!mux_prefers_sweep(entries.size(), select, sizeof(S), ex.mux)) {
+    for (const mux_unitary_entry& e : entries) {
+      const subspace s(n, cmask | smask | tmask, cvalue | deposit(e.select, select));
+      for_each_run(s, ex, rows[e.matrix].dim, unitary_applier<S>{rows[e.matrix], offsets, a});
+    }
+    return;
+  }
+  std::vector<std::int32_t> slot(std::size_t{1} << select.size(), -1);
+  for (const mux_unitary_entry& e : entries) slot[e.select] = static_cast<std::int32_t>(e.matrix);
+  const select_reader sel(select);
+  const subspace s(n, cmask | tmask, cvalue);
+  const std::size_t dim = std::size_t{1} << targets.size();
+  for_each_run(s, ex, dim, [&](std::uint64_t i0, std::uint64_t len) {
+    for (std::uint64_t b = i0; b < i0 + len; ++b) {
+      const std::int32_t id = slot[sel(b)];
+      if (id >= 0) unitary_applier<S>{rows[static_cast<std::size_t>(id)], offsets, a}(b, 1);
+    }
+  });
+}
+
+}  // namespace qrm::detail

@@ -1,0 +1,242 @@
+// qrm/circuit/layout.hpp: layouts (registers placed at compile-time qubit offsets), qubit selectors
+// (a register, one bit, a slice, a concatenation) and controls (`when`, `on`, `off`).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+#include <type_traits>
+
+#include "../support/detail/meta.hpp"
+#include "ops.hpp"
+#include "registers.hpp"
+
+namespace qrm {
+
+// Run-time description of one register of a layout (for printing, export and pruning).
+struct register_info {
+  std::string_view name;
+  role kind;
+  qubit_index offset;
+  std::size_t width;
+};
+
+// layout<R...>: registers placed one after another from qubit 0 (the first register holds the
+// least significant qubits of a basis-state index).
+template <register_type... Regs>
+struct layout {
+  using registers = detail::type_list<Regs...>;
+  static constexpr std::size_t register_count = sizeof...(Regs);
+  static constexpr std::size_t width = (Regs::width + ... + 0);
+
+  static constexpr bool registers_must_be_distinct =
+      std::is_same_v<detail::list_unique_t<registers>, registers>;
+  static_assert(registers_must_be_distinct, "registers_must_be_distinct: a register appears twice in the layout");
+  static constexpr bool register_names_must_be_distinct =
+      detail::all_distinct(std::array<std::string_view, sizeof...(Regs)>{Regs::name...});
+  static_assert(register_names_must_be_distinct,
+                "register_names_must_be_distinct: two registers of the layout share a name");
+
+  template <class R>
+  static constexpr bool contains = detail::list_contains<R, registers>;
+
+ private:
+  template <class R>
+  static constexpr qubit_index offset_impl() {
+    qubit_index off = 0;
+    bool found = false;
+    ((found = found || std::is_same_v<R, Regs>, off += found ? 0 : static_cast<qubit_index>(Regs::width)), ...);
+    return off;
+  }
+  static constexpr std::array<register_info, sizeof...(Regs)> infos() {
+    std::array<register_info, sizeof...(Regs)> r{};
+    qubit_index off = 0;
+    std::size_t i = 0;
+    ((r[i++] = register_info{Regs::name, Regs::kind, off, Regs::width}, off += static_cast<qubit_index>(Regs::width)),
+     ...);
+    return r;
+  }
+
+ public:
+  // offset<R>: the qubit index of R's least significant qubit.
+  template <class R>
+  static constexpr qubit_index offset = [] {
+    static_assert(contains<R>, "register_must_belong_to_layout: the register is not part of this layout");
+    return offset_impl<R>();
+  }();
+
+  static constexpr std::array<register_info, sizeof...(Regs)> register_table = infos();
+};
+
+template <class T>
+inline constexpr bool is_layout_v = false;
+template <class... R>
+inline constexpr bool is_layout_v<layout<R...>> = true;
+// layout_type: any qrm::layout<...>.
+template <class T>
+concept layout_type = is_layout_v<T>;
+
+// ---- qubit selectors ------------------------------------------------------------------------
+
+// bit<R, I>: qubit I of register R.
+template <register_type R, std::size_t I>
+struct bit {
+  static constexpr bool bit_index_must_be_within_register = I < R::width;
+  static_assert(bit_index_must_be_within_register, "bit_index_must_be_within_register: bit<R, I> needs I < R::width");
+};
+
+// slice<R, First, Count>: qubits First .. First+Count-1 of R (First is the least significant).
+template <register_type R, std::size_t First, std::size_t Count>
+struct slice {
+  static constexpr bool slice_must_be_within_register = Count >= 1 && First + Count <= R::width;
+  static_assert(slice_must_be_within_register,
+                "slice_must_be_within_register: slice<R, First, Count> needs Count >= 1 and First + Count <= R::width");
+};
+
+// qubits<S...>: the selectors' qubits concatenated, the first selector least significant.
+template <class... S>
+struct qubits {};
+
+namespace detail {
+template <class S>
+struct selector_traits {
+  static constexpr bool valid = false;
+};
+template <fixed_string N, std::size_t W, role Ro>
+struct selector_traits<reg<N, W, Ro>> {
+  static constexpr bool valid = true;
+  using registers = type_list<reg<N, W, Ro>>;
+  static constexpr std::size_t count = W;
+  template <class L>
+  static constexpr std::array<qubit_index, count> resolve() {
+    std::array<qubit_index, count> r{};
+    for (std::size_t i = 0; i < count; ++i) r[i] = L::template offset<reg<N, W, Ro>> + static_cast<qubit_index>(i);
+    return r;
+  }
+};
+template <class R, std::size_t I>
+struct selector_traits<bit<R, I>> {
+  static constexpr bool valid = I < R::width;
+  using registers = type_list<R>;
+  static constexpr std::size_t count = 1;
+  template <class L>
+  static constexpr std::array<qubit_index, 1> resolve() {
+    return {L::template offset<R> + static_cast<qubit_index>(I)};
+  }
+};
+template <class R, std::size_t F, std::size_t C>
+struct selector_traits<slice<R, F, C>> {
+  static constexpr bool valid = C >= 1 && F + C <= R::width;
+  using registers = type_list<R>;
+  static constexpr std::size_t count = C;
+  template <class L>
+  static constexpr std::array<qubit_index, count> resolve() {
+    std::array<qubit_index, count> r{};
+    for (std::size_t i = 0; i < count; ++i) r[i] = L::template offset<R> + static_cast<qubit_index>(F + i);
+    return r;
+  }
+};
+template <class... S>
+struct selector_traits<qubits<S...>> {
+  static constexpr bool valid = sizeof...(S) >= 1 && (selector_traits<S>::valid && ...);
+  using registers = list_join_t<typename selector_traits<S>::registers...>;
+  static constexpr std::size_t count = (std::size_t{0} + ... + selector_traits<S>::count);
+  template <class L>
+  static constexpr std::array<qubit_index, count> resolve() {
+    std::array<qubit_index, count> r{};
+    std::size_t i = 0;
+    (void)i;
+    (
+        [&] {
+          for (qubit_index q : selector_traits<S>::template resolve<L>()) r[i++] = q;
+        }(),
+        ...);
+    return r;
+  }
+};
+}  // namespace detail
+
+// selector: a register, bit<>, slice<> or qubits<> naming some qubits.
+template <class S>
+concept selector = detail::selector_traits<S>::valid;
+
+template <selector S>
+inline constexpr std::size_t selector_width = detail::selector_traits<S>::count;
+
+// resolve<L, S>(): the qubit indices S names in layout L, least significant first.
+template <layout_type L, selector S>
+constexpr std::array<qubit_index, selector_width<S>> resolve() {
+  return detail::selector_traits<S>::template resolve<L>();
+}
+
+// ---- controls -------------------------------------------------------------------------------
+
+// when<S, Value>: control on the qubits of S reading Value (bit i of Value for qubit i of S);
+// per-qubit values make negative controls: when<bit<r, 0>, 0> fires on |0>.
+template <class S, std::uint64_t Value>
+struct when {
+  static constexpr bool control_must_select_qubits = selector<S>;
+  static_assert(control_must_select_qubits,
+                "control_must_select_qubits: when<S, V> needs S to be a register, bit<>, slice<> or qubits<>");
+  static constexpr bool control_value_must_fit_register =
+      Value <= max_value_of_width(detail::selector_traits<S>::count);
+  static_assert(control_value_must_fit_register,
+                "control_value_must_fit_register: when<S, V> needs V < 2^(number of qubits of S)");
+};
+
+// on<S>: every qubit of S is |1>.  off<S>: every qubit of S is |0>.
+template <selector S>
+using on = when<S, max_value_of_width(selector_width<S>)>;
+template <selector S>
+using off = when<S, 0>;
+
+namespace detail {
+// A control is written when<S, V> or as a bare selector (meaning on<S>).
+template <class C>
+struct control_traits {
+  static constexpr bool valid = selector<C>;
+  static constexpr bool fits = true;
+  using sel = C;
+  static constexpr std::uint64_t value = valid ? max_value_of_width(selector_traits<C>::count) : 0;
+};
+template <class S, std::uint64_t V>
+struct control_traits<when<S, V>> {
+  static constexpr bool valid = selector<S>;
+  static constexpr bool fits = !valid || V <= max_value_of_width(selector_traits<S>::count);
+  using sel = S;
+  static constexpr std::uint64_t value = V;
+};
+
+template <class L, class C>
+constexpr std::array<control, selector_traits<typename control_traits<C>::sel>::count> resolve_control() {
+  using T = control_traits<C>;
+  constexpr auto qs = selector_traits<typename T::sel>::template resolve<L>();
+  std::array<control, qs.size()> r{};
+  for (std::size_t i = 0; i < qs.size(); ++i) r[i] = control{qs[i], ((T::value >> i) & 1u) != 0};
+  return r;
+}
+
+template <class L, class... C>
+constexpr auto resolve_controls() {
+  constexpr std::size_t n = (std::size_t{0} + ... + selector_traits<typename control_traits<C>::sel>::count);
+  std::array<control, n> r{};
+  std::size_t i = 0;
+  (void)i;  // unused when there are no controls
+  (
+      [&] {
+        for (control c : resolve_control<L, C>()) r[i++] = c;
+      }(),
+      ...);
+  return r;
+}
+
+template <class... C>
+using control_registers_t = list_join_t<typename selector_traits<typename control_traits<C>::sel>::registers...>;
+}  // namespace detail
+
+// control_spec: a when<> or a selector.
+template <class C>
+concept control_spec = detail::control_traits<C>::valid && detail::control_traits<C>::fits;
+
+}  // namespace qrm

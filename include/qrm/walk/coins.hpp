@@ -1,0 +1,238 @@
+// qrm/walk/coins.hpp: coin operators, the unitaries a voxel applies to the direction register.
+//
+// Column d of a coin is where direction d goes: U|d> = sum_r U[r][d] |r>. Kinds:
+//   vacuum      identity (air: no gate at all)
+//   lambertian  scatter into the outgoing hemisphere in superposition. 2D: the paper's +-1/2
+//               matrix (SPEC.md section 3), incoming -> {n-2, n-1, n, n+1}, 1/4 each.
+//               3D: incoming -> equal magnitude over the outgoing set, made unitary with the
+//               columns of a Hadamard matrix (real, Sylvester, when the outgoing set has 2^k
+//               directions; otherwise the complex Fourier matrix).
+//   boundary    reverse the direction (2D: d -> d xor 4, an X on the top direction qubit).
+//   specular    mirror over the surface plane, snapped to the direction set as a permutation.
+// Direction-register states beyond the set's D directions are left alone (identity).
+#pragma once
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <complex>
+#include <cstddef>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "directions.hpp"
+#include "../circuit/ops.hpp"
+#include "scene.hpp"
+
+namespace qrm {
+
+// lambertian_coin_2d(n): the paper's 8x8 Lambertian coin for normal index n (SPEC.md section 3).
+template <int = 0>
+inline dense_matrix lambertian_coin_2d(int n) {
+  if (n < 0 || n > 7) throw std::invalid_argument("lambertian_coin_2d: normal index must be 0..7, got " + std::to_string(n));
+  auto mod8 = [](int v) { return ((v % 8) + 8) % 8; };
+  const int par[2] = {mod8(n + 2), mod8(n - 2)};
+  const int inc[3] = {mod8(n + 3), mod8(n + 4), mod8(n + 5)};
+  const int out[3] = {n, mod8(n - 1), mod8(n + 1)};
+  int m[8][8] = {};
+  for (int i : out) {
+    m[par[0]][i] = 1;
+    m[i][par[1]] = 1;
+    for (int j : inc) m[i][j] = 1;
+  }
+  for (int i : inc) {
+    m[i][par[0]] = 1;
+    m[par[1]][i] = 1;
+    for (int j : out) m[i][j] = 1;
+  }
+  for (int i : par) m[i][i] = 1;
+  // Signs: rows are "outgoing-type" (m[row][0] == 0) or "incoming-type"; the k-th row of each
+  // type negates its nonzero entries whose ordinals are in neg[k].
+  const std::vector<std::vector<int>> neg = {{2, 3}, {1, 3}, {1, 2}, {}};
+  int seen_out = 0, seen_in = 0;
+  for (int row = 0; row < 8; ++row) {
+    const int k = m[row][0] == 0 ? seen_out++ : seen_in++;
+    if (k >= 4) throw std::logic_error("lambertian_coin_2d: more than four rows of one type");
+    int ordinal = 0;
+    for (int col = 0; col < 8; ++col) {
+      if (m[row][col] == 0) continue;
+      if (std::find(neg[static_cast<std::size_t>(k)].begin(), neg[static_cast<std::size_t>(k)].end(), ordinal) !=
+          neg[static_cast<std::size_t>(k)].end())
+        m[row][col] = -m[row][col];
+      ++ordinal;
+    }
+  }
+  dense_matrix u(8);
+  for (std::size_t r = 0; r < 8; ++r)
+    for (std::size_t c = 0; c < 8; ++c) u(r, c) = 0.5 * m[r][c];
+  return u;
+}
+
+namespace detail {
+// A permutation of the directions close to d -> target(d): pairs (d, t) are taken greedily in
+// order of increasing distance between target(d) and t, each d and t used once, so the result
+// is always a bijection (exact whenever target maps the set onto itself).
+template <class F>
+std::vector<std::size_t> snap_permutation(const direction_set& s, F target) {
+  const std::size_t D = s.size();
+  struct cand {
+    double dist;
+    std::size_t from, to;
+  };
+  std::vector<cand> all;
+  for (std::size_t d = 0; d < D; ++d) {
+    const vec3 t = target(s.vectors[d]);
+    for (std::size_t e = 0; e < D; ++e) {
+      const vec3 diff{t[0] - s.vectors[e][0], t[1] - s.vectors[e][1], t[2] - s.vectors[e][2]};
+      all.push_back({dot(diff, diff), d, e});
+    }
+  }
+  std::stable_sort(all.begin(), all.end(), [](const cand& a, const cand& b) { return a.dist < b.dist; });
+  std::vector<std::size_t> perm(D, D);
+  std::vector<bool> taken(D, false);
+  for (const cand& c : all)
+    if (perm[c.from] == D && !taken[c.to]) {
+      perm[c.from] = c.to;
+      taken[c.to] = true;
+    }
+  return perm;
+}
+
+template <int = 0>
+inline dense_matrix permutation_coin(const std::vector<std::size_t>& perm, std::size_t dim) {
+  dense_matrix u(dim);
+  for (std::size_t d = 0; d < dim; ++d) u(d < perm.size() ? perm[d] : d, d) = 1.0;
+  return u;
+}
+}  // namespace detail
+
+// boundary_coin(s): reverse every direction (d -> the direction nearest -d, as a permutation).
+template <int = 0>
+inline dense_matrix boundary_coin(const direction_set& s) {
+  const auto perm = detail::snap_permutation(s, [](const vec3& v) { return vec3{-v[0], -v[1], -v[2]}; });
+  return detail::permutation_coin(perm, std::size_t{1} << s.bits());
+}
+
+// specular_coin(s, n): mirror every direction over the plane with unit normal n.
+template <int = 0>
+inline dense_matrix specular_coin(const direction_set& s, const vec3& normal) {
+  const vec3 n = normalized(normal);
+  const auto perm = detail::snap_permutation(s, [&](const vec3& v) {
+    const double k = 2.0 * dot(v, n);
+    return vec3{v[0] - k * n[0], v[1] - k * n[1], v[2] - k * n[2]};
+  });
+  return detail::permutation_coin(perm, std::size_t{1} << s.bits());
+}
+
+// What a Lambertian coin does with a direction set and a normal.
+struct lambertian_split {
+  std::vector<std::size_t> outgoing, incoming, others;  // others: tangent directions
+  std::size_t grazing_counted_outgoing = 0;  // see lambertian_coin
+};
+
+// The outgoing / incoming split for normal n: d.n > 0 is outgoing, d.n < 0 incoming. A unitary
+// needs |incoming| <= |outgoing|; when a set has more incoming directions for some normal
+// (e.g. the 15-direction golden spiral), the directions closest to the surface plane (tangent
+// ones first, then the least incoming) are counted as outgoing until it balances. That is
+// reported in grazing_counted_outgoing; antipodal sets never need it.
+template <int = 0>
+inline lambertian_split split_hemisphere(const direction_set& s, const vec3& normal) {
+  const vec3 n = normalized(normal);
+  constexpr double eps = 1e-9;
+  lambertian_split r;
+  std::vector<std::pair<double, std::size_t>> rest;  // (d.n, d) for d.n <= eps
+  for (std::size_t d = 0; d < s.size(); ++d) {
+    const double c = dot(s.vectors[d], n);
+    if (c > eps)
+      r.outgoing.push_back(d);
+    else
+      rest.push_back({c, d});
+  }
+  std::stable_sort(rest.begin(), rest.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::size_t incoming_count = 0;
+  for (const auto& [c, d] : rest) incoming_count += c < -eps ? 1 : 0;
+  std::size_t next = 0;
+  while (r.outgoing.size() < incoming_count && next < rest.size()) {
+    if (rest[next].first < -eps) --incoming_count;
+    r.outgoing.push_back(rest[next].second);
+    ++r.grazing_counted_outgoing;
+    ++next;
+  }
+  for (std::size_t i = next; i < rest.size(); ++i)
+    (rest[i].first < -eps ? r.incoming : r.others).push_back(rest[i].second);
+  std::sort(r.outgoing.begin(), r.outgoing.end());
+  std::sort(r.incoming.begin(), r.incoming.end());
+  std::sort(r.others.begin(), r.others.end());
+  return r;
+}
+
+// lambertian_coin(s, n): incoming directions go to equal-magnitude superpositions of the
+// outgoing ones; tangent directions and unused register states are left alone; outgoing
+// directions take the remaining orthonormal columns (Gram-Schmidt in index order), as the 2D
+// coin sends outgoing directions back into the surface to stay unitary.
+template <int = 0>
+inline dense_matrix lambertian_coin(const direction_set& s, const vec3& normal) {
+  const lambertian_split sp = split_hemisphere(s, normal);
+  const std::size_t dim = std::size_t{1} << s.bits();
+  const std::size_t m = sp.outgoing.size();
+  if (m == 0) throw std::invalid_argument("lambertian_coin: no outgoing direction for this normal");
+  // Columns of an m x m Hadamard matrix (unimodular entries, orthogonal columns).
+  const bool power_of_two = (m & (m - 1)) == 0;
+  auto hadamard = [&](std::size_t j, std::size_t k) -> complex {
+    if (power_of_two) return (std::popcount(j & k) % 2 == 0) ? 1.0 : -1.0;  // Sylvester
+    return std::polar(1.0, 2.0 * std::numbers::pi * static_cast<double>(j * k) / static_cast<double>(m));
+  };
+  dense_matrix u(dim);
+  std::vector<bool> column_done(dim, false);
+  const double amp = 1.0 / std::sqrt(static_cast<double>(m));
+  for (std::size_t k = 0; k < sp.incoming.size(); ++k) {
+    for (std::size_t j = 0; j < m; ++j) u(sp.outgoing[j], sp.incoming[k]) = amp * hadamard(j, k);
+    column_done[sp.incoming[k]] = true;
+  }
+  for (std::size_t t : sp.others) {
+    u(t, t) = 1.0;
+    column_done[t] = true;
+  }
+  for (std::size_t d = s.size(); d < dim; ++d) {
+    u(d, d) = 1.0;
+    column_done[d] = true;
+  }
+  // Outgoing columns: an orthonormal basis of what the incoming columns leave of
+  // span(outgoing, incoming).
+  std::vector<std::vector<complex>> basis;
+  for (std::size_t k : sp.incoming) {
+    std::vector<complex> v(dim);
+    for (std::size_t r = 0; r < dim; ++r) v[r] = u(r, k);
+    basis.push_back(v);
+  }
+  std::vector<std::size_t> candidates = sp.outgoing;
+  candidates.insert(candidates.end(), sp.incoming.begin(), sp.incoming.end());
+  std::size_t next_column = 0;
+  for (std::size_t c : candidates) {
+    if (next_column == sp.outgoing.size()) break;
+    std::vector<complex> v(dim);
+    v[c] = 1.0;
+    for (int pass = 0; pass < 2; ++pass)  // twice: classical Gram-Schmidt loses orthogonality once
+      for (const auto& b : basis) {
+        complex proj{};
+        for (std::size_t r = 0; r < dim; ++r) proj += std::conj(b[r]) * v[r];
+        for (std::size_t r = 0; r < dim; ++r) v[r] -= proj * b[r];
+      }
+    double len = 0;
+    for (const complex& z : v) len += std::norm(z);
+    len = std::sqrt(len);
+    if (len < 1e-8) continue;
+    for (complex& z : v) z /= len;
+    for (std::size_t r = 0; r < dim; ++r) u(r, sp.outgoing[next_column]) = std::abs(v[r]) < 1e-15 ? complex{} : v[r];
+    column_done[sp.outgoing[next_column]] = true;
+    ++next_column;
+    basis.push_back(v);
+  }
+  if (next_column != sp.outgoing.size() || std::find(column_done.begin(), column_done.end(), false) != column_done.end())
+    throw std::logic_error("lambertian_coin: could not complete the unitary");
+  return u;
+}
+
+}  // namespace qrm

@@ -1,0 +1,194 @@
+// qrm/walk/model.hpp: the walk as classical data, shared by the circuit builder (walk.hpp) and
+// the classical references (classical.hpp), so both see the same coins, shifts and samples.
+//
+// A walker state is a fixed-point position per axis (P integer bits, F fractional bits; the
+// voxel is the integer part) and a direction index. One step: apply the coin of the current
+// voxel to the direction, move by the direction's displacement (wrapping modulo 2^(P+F) per
+// axis), then sample Le (and, except after the last step, rho) of the voxel reached.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <complex>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "coins.hpp"
+#include "directions.hpp"
+#include "../circuit/ops.hpp"
+#include "scene.hpp"
+
+namespace qrm {
+
+// Where a walk starts: a voxel, and one direction or a uniform superposition of all of them.
+struct walk_start {
+  std::array<unsigned, 3> voxel{0, 0, 0};
+  int direction = -1;  // -1: uniform over every direction
+};
+
+struct walk_state {
+  std::array<std::uint64_t, 3> pos{0, 0, 0};  // fixed point per axis
+  std::uint32_t dir = 0;
+  auto operator<=>(const walk_state&) const = default;
+};
+
+class walk_model {
+ public:
+  // (A constructor template, so that the coin builders are compiled only where a walk is made.)
+  template <int = 0>
+  walk_model(scene s_in, direction_set dirs) : scene_(std::make_shared<const scene>(std::move(s_in))), dirs_(std::move(dirs)) {
+    const scene& s = *scene_;
+    s.validate();
+    if (dirs_.dims != s.dims())
+      throw std::invalid_argument("walk_model: a " + std::to_string(dirs_.dims) + "D direction set for a " +
+                                  std::to_string(s.dims()) + "D scene");
+    if (s.dims() == 2 && dirs_.fractional_bits != 0)
+      throw std::invalid_argument("walk_model: 2D walks move whole cells (0 fractional bits)");
+    coin_of_voxel_.assign(s.voxel_count(), -1);
+    std::map<std::tuple<int, double, double, double, int>, int> seen;
+    for (std::size_t i = 0; i < s.voxel_count(); ++i) {
+      const voxel& v = s[i];
+      if (v.kind == material::air) continue;
+      const auto key = std::make_tuple(static_cast<int>(v.kind), v.normal[0], v.normal[1], v.normal[2], v.normal_index);
+      auto it = seen.find(key);
+      if (it == seen.end()) {
+        it = seen.emplace(key, static_cast<int>(coins_.size())).first;
+        coins_.push_back(make_coin(v));
+        coin_kinds_.push_back(v.kind);
+      }
+      coin_of_voxel_[i] = it->second;
+    }
+  }
+
+  const scene& scene_data() const { return *scene_; }
+  const direction_set& directions() const { return dirs_; }
+  unsigned dims() const { return scene_->dims(); }
+  unsigned position_bits() const { return scene_->position_bits(); }
+  unsigned fractional_bits() const { return dirs_.fractional_bits; }
+  unsigned axis_bits() const { return position_bits() + fractional_bits(); }
+  unsigned direction_bits() const { return dirs_.bits(); }
+  std::size_t direction_count() const { return dirs_.size(); }
+
+  // Distinct coin matrices and, per voxel, the index of its coin (-1 for air: identity).
+  const std::vector<dense_matrix>& coins() const { return coins_; }
+  const std::vector<material>& coin_kinds() const { return coin_kinds_; }
+  int coin_of(std::size_t voxel_index) const { return coin_of_voxel_[voxel_index]; }
+  bool coins_are_real() const {
+    for (const auto& c : coins_)
+      if (!c.is_real()) return false;
+    return true;
+  }
+
+  // The voxel index of a fixed-point position.
+  std::size_t voxel_of(const std::array<std::uint64_t, 3>& pos) const {
+    const unsigned f = fractional_bits();
+    return scene_->index(static_cast<unsigned>(pos[0] >> f), static_cast<unsigned>(pos[1] >> f),
+                         dims() == 3 ? static_cast<unsigned>(pos[2] >> f) : 0u);
+  }
+  // The fixed-point centre of a voxel.
+  std::array<std::uint64_t, 3> centre_of(const std::array<unsigned, 3>& v) const {
+    const unsigned f = fractional_bits();
+    const std::uint64_t half = f == 0 ? 0 : std::uint64_t{1} << (f - 1);
+    std::array<std::uint64_t, 3> p{};
+    for (unsigned a = 0; a < dims(); ++a) p[a] = (static_cast<std::uint64_t>(v[a]) << f) | half;
+    return p;
+  }
+  // Move by direction d's displacement, wrapping modulo 2^(P+F) on each axis.
+  std::array<std::uint64_t, 3> shifted(const std::array<std::uint64_t, 3>& pos, std::uint32_t d) const {
+    const std::uint64_t wrap = (std::uint64_t{1} << axis_bits()) - 1;
+    std::array<std::uint64_t, 3> p = pos;
+    for (unsigned a = 0; a < dims(); ++a) p[a] = (pos[a] + static_cast<std::uint64_t>(dirs_.displacement[d][a])) & wrap;
+    return p;
+  }
+
+  // Where the coin at `voxel_index` sends direction d: (new direction, amplitude) pairs.
+  std::vector<std::pair<std::uint32_t, complex>> scatter(std::size_t voxel_index, std::uint32_t d) const {
+    const int c = coin_of_voxel_[voxel_index];
+    if (c < 0) return {{d, complex(1.0)}};
+    std::vector<std::pair<std::uint32_t, complex>> r;
+    const dense_matrix& u = coins_[static_cast<std::size_t>(c)];
+    for (std::size_t row = 0; row < u.dim; ++row)
+      if (u(row, d) != complex{}) r.push_back({static_cast<std::uint32_t>(row), u(row, d)});
+    return r;
+  }
+
+  // The start of a light-map sample at a voxel's centre: in air, every direction; on a
+  // surface, the direction that points into it (2D: (normal + 4) mod 8, as the paper).
+  walk_start light_map_start(const std::array<unsigned, 3>& v) const {
+    walk_start s;
+    s.voxel = v;
+    const voxel& vox = scene_->at(v[0], v[1], v[2]);
+    if (vox.kind == material::air) return s;
+    if (dims() == 2) {
+      s.direction = (vox.normal_index + 4) % 8;
+    } else {
+      s.direction = static_cast<int>(nearest_direction({-vox.normal[0], -vox.normal[1], -vox.normal[2]}));
+    }
+    return s;
+  }
+  // The direction of the set closest to unit vector v.
+  std::uint32_t nearest_direction(const vec3& v) const {
+    std::uint32_t best = 0;
+    double best_dot = -2;
+    for (std::uint32_t d = 0; d < dirs_.size(); ++d) {
+      const double c = dot(dirs_.vectors[d], v);
+      if (c > best_dot) {
+        best_dot = c;
+        best = d;
+      }
+    }
+    return best;
+  }
+
+  // Initial states and their amplitudes.
+  std::vector<std::pair<walk_state, complex>> initial_states(const walk_start& s) const {
+    if (s.direction >= static_cast<int>(dirs_.size()))
+      throw std::invalid_argument("walk start direction " + std::to_string(s.direction) + " is not one of the " +
+                                  std::to_string(dirs_.size()) + " directions");
+    scene_->index(s.voxel[0], s.voxel[1], s.voxel[2]);  // range check
+    walk_state w;
+    w.pos = centre_of(s.voxel);
+    if (s.direction >= 0) {
+      w.dir = static_cast<std::uint32_t>(s.direction);
+      return {{w, complex(1.0)}};
+    }
+    std::vector<std::pair<walk_state, complex>> r;
+    const double a = 1.0 / std::sqrt(static_cast<double>(dirs_.size()));
+    for (std::uint32_t d = 0; d < dirs_.size(); ++d) {
+      w.dir = d;
+      r.push_back({w, complex(a)});
+    }
+    return r;
+  }
+
+  double emission(std::size_t voxel_index, int channel) const { return (*scene_)[voxel_index].emission[channel]; }
+  double reflectance(std::size_t voxel_index, int channel) const {
+    return (*scene_)[voxel_index].reflectance[channel];
+  }
+
+ private:
+  template <int = 0>
+  dense_matrix make_coin(const voxel& v) const {
+    switch (v.kind) {
+      case material::lambertian:
+        return dims() == 2 ? lambertian_coin_2d(v.normal_index) : lambertian_coin(dirs_, v.normal);
+      case material::boundary: return boundary_coin(dirs_);
+      case material::specular: return specular_coin(dirs_, v.normal);
+      case material::air: break;
+    }
+    throw std::logic_error("make_coin: air has no coin");
+  }
+
+  std::shared_ptr<const scene> scene_;  // shared: copies of a model are cheap
+  direction_set dirs_;
+  std::vector<dense_matrix> coins_;
+  std::vector<material> coin_kinds_;
+  std::vector<int> coin_of_voxel_;
+};
+
+}  // namespace qrm

@@ -1,0 +1,168 @@
+// qrm/walk/scene.hpp: voxel scenes (2D grids and 3D voxel grids) as run-time data.
+//
+// A scene is N^dims voxels, N = 2^P. Voxel (x, y[, z]) has index x + N (y + N z); in 2D, x is
+// the column and y the row, y growing downwards (the paper's convention). Each voxel has a kind
+// (which coin the walk applies there), a normal, and RGB reflectance and emission.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace qrm {
+
+enum class material : unsigned char { air, lambertian, boundary, specular };
+
+constexpr const char* material_name(material m) {
+  switch (m) {
+    case material::air: return "air";
+    case material::lambertian: return "lambertian";
+    case material::boundary: return "boundary";
+    case material::specular: return "specular";
+  }
+  return "?";
+}
+
+struct rgb {
+  double r = 0, g = 0, b = 0;
+  double operator[](int c) const { return c == 0 ? r : c == 1 ? g : b; }
+  double& operator[](int c) { return c == 0 ? r : c == 1 ? g : b; }
+  bool operator==(const rgb&) const = default;
+};
+
+using vec3 = std::array<double, 3>;
+
+inline double dot(const vec3& a, const vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline double norm(const vec3& a) { return std::sqrt(dot(a, a)); }
+// The unit vector along a: any finite nonzero a, however large or small its components.
+inline vec3 normalized(const vec3& a) {
+  const double l = norm(a);
+  // Squares of components between 1e-150 and 1e150 neither overflow nor underflow.
+  if (l > 1e-150 && l < 1e150) return {a[0] / l, a[1] / l, a[2] / l};
+  const double m = std::max({std::abs(a[0]), std::abs(a[1]), std::abs(a[2])});
+  if (!(m > 0) || !std::isfinite(m)) throw std::invalid_argument("normalized: zero or non-finite vector");
+  const vec3 s{a[0] / m, a[1] / m, a[2] / m};  // largest component exactly +-1: norm(s) in [1, sqrt 3]
+  const double ls = norm(s);
+  return {s[0] / ls, s[1] / ls, s[2] / ls};
+}
+
+struct voxel {
+  material kind = material::air;
+  // 2D: the normal as one of the 8 direction indices (0 N, 1 NE, ..., 7 NW); -1 for none.
+  int normal_index = -1;
+  // 3D (and 2D, derived from the index): the unit outward normal.
+  vec3 normal{0, 0, 0};
+  rgb reflectance{1, 1, 1};  // air transmits everything (the paper's "A" = (1,1,1))
+  rgb emission{0, 0, 0};
+  bool operator==(const voxel&) const = default;
+};
+
+class scene {
+ public:
+  scene() = default;
+  // An all-air scene of size^dims voxels; size must be a power of two >= 2, dims 2 or 3.
+  scene(std::string name, unsigned dims, unsigned size) : name_(std::move(name)), dims_(dims), size_(size) {
+    if (dims != 2 && dims != 3)
+      throw std::invalid_argument("scene: dims must be 2 or 3, got " + std::to_string(dims));
+    if (size < 2 || (size & (size - 1)) != 0)
+      throw std::invalid_argument("scene: size must be a power of two >= 2 (N = 2^P), got " + std::to_string(size));
+    if (size > (1u << 12)) throw std::invalid_argument("scene: size " + std::to_string(size) + " is larger than 4096");
+    bits_ = 0;
+    while ((1u << bits_) < size) ++bits_;
+    std::size_t count = 1;
+    for (unsigned d = 0; d < dims; ++d) count *= size;
+    voxels_.assign(count, voxel{});
+  }
+
+  const std::string& name() const { return name_; }
+  void set_name(std::string n) { name_ = std::move(n); }
+  unsigned dims() const { return dims_; }
+  unsigned size() const { return size_; }
+  unsigned position_bits() const { return bits_; }  // P, with N = 2^P
+  std::size_t voxel_count() const { return voxels_.size(); }
+
+  std::size_t index(unsigned x, unsigned y, unsigned z = 0) const {
+    if (x >= size_ || y >= size_ || z >= (dims_ == 3 ? size_ : 1u))
+      throw std::out_of_range("scene '" + name_ + "': voxel (" + std::to_string(x) + ", " + std::to_string(y) +
+                              (dims_ == 3 ? ", " + std::to_string(z) : std::string()) + ") is outside the " +
+                              std::to_string(size_) + "^" + std::to_string(dims_) + " grid");
+    return x + static_cast<std::size_t>(size_) * (y + static_cast<std::size_t>(size_) * z);
+  }
+  std::array<unsigned, 3> coords(std::size_t i) const {
+    return {static_cast<unsigned>(i % size_), static_cast<unsigned>((i / size_) % size_),
+            static_cast<unsigned>(i / (static_cast<std::size_t>(size_) * size_))};
+  }
+  voxel& at(unsigned x, unsigned y, unsigned z = 0) { return voxels_[index(x, y, z)]; }
+  const voxel& at(unsigned x, unsigned y, unsigned z = 0) const { return voxels_[index(x, y, z)]; }
+  voxel& operator[](std::size_t i) { return voxels_[i]; }
+  const voxel& operator[](std::size_t i) const { return voxels_[i]; }
+  const std::vector<voxel>& voxels() const { return voxels_; }
+
+  bool has(material m) const {
+    for (const voxel& v : voxels_)
+      if (v.kind == m) return true;
+    return false;
+  }
+  // Channels c1 and c2 carry the same reflectance and emission everywhere (so one circuit
+  // serves both).
+  bool same_channels(int c1, int c2) const {
+    for (const voxel& v : voxels_)
+      if (v.reflectance[c1] != v.reflectance[c2] || v.emission[c1] != v.emission[c2]) return false;
+    return true;
+  }
+  // For each channel, the first channel with the same data (grey scenes: {0, 0, 0}), so results
+  // are computed once per distinct channel.
+  std::array<int, 3> channel_sources() const {
+    std::array<int, 3> source{0, 1, 2};
+    for (int c = 1; c < 3; ++c)
+      for (int e = 0; e < c; ++e)
+        if (source[static_cast<std::size_t>(e)] == e && same_channels(c, e)) {
+          source[static_cast<std::size_t>(c)] = e;
+          break;
+        }
+    return source;
+  }
+  // The factor emission is divided by before amplitude encoding: max(1, largest emission).
+  double emission_scale(int channel) const {
+    double m = 1.0;
+    for (const voxel& v : voxels_) m = std::max(m, v.emission[channel]);
+    return m;
+  }
+
+  // Throws, naming the voxel and the value, if any voxel is out of range.
+  void validate() const {
+    for (std::size_t i = 0; i < voxels_.size(); ++i) {
+      const voxel& v = voxels_[i];
+      const auto c = coords(i);
+      const std::string where = "scene '" + name_ + "': voxel (" + std::to_string(c[0]) + ", " + std::to_string(c[1]) +
+                                (dims_ == 3 ? ", " + std::to_string(c[2]) : std::string()) + ")";
+      for (int ch = 0; ch < 3; ++ch) {
+        const double r = v.reflectance[ch], e = v.emission[ch];
+        if (!(r >= 0.0 && r <= 1.0))
+          throw std::invalid_argument(where + ": reflectance " + std::to_string(r) + " outside [0, 1] in channel " +
+                                      "RGB"[ch]);
+        if (!(e >= 0.0) || !std::isfinite(e))
+          throw std::invalid_argument(where + ": emission " + std::to_string(e) + " must be finite and >= 0 in channel " +
+                                      "RGB"[ch]);
+      }
+      if (v.kind == material::air) continue;
+      if (dims_ == 2 && (v.normal_index < 0 || v.normal_index > 7))
+        throw std::invalid_argument(where + ": a " + material_name(v.kind) + " voxel needs a normal index 0..7, got " +
+                                    std::to_string(v.normal_index));
+      if (dims_ == 3 && !(std::abs(norm(v.normal) - 1.0) < 1e-9))
+        throw std::invalid_argument(where + ": a " + material_name(v.kind) + " voxel needs a unit normal");
+    }
+  }
+
+ private:
+  std::string name_;
+  unsigned dims_ = 2, size_ = 2, bits_ = 1;
+  std::vector<voxel> voxels_;
+};
+
+}  // namespace qrm

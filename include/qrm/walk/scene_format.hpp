@@ -1,0 +1,348 @@
+// qrm/walk/scene_format.hpp: a small text format for scenes (2D and 3D), its parser and its writer.
+//
+//   # comment (to the end of the line)
+//   qrm-scene 1                   first line: the format and its version
+//   name my_scene                 optional
+//   dims 2                        2 or 3
+//   size 8                        N = 2^P voxels per axis
+//   color W 1 1 1                 named colours for the statements below
+//   kinds                         2D only: N rows (y = 0 first) of N tokens (x = 0 first):
+//   B3 L4 ... B5                    .  air, L<n> Lambertian, B<n> boundary, S<n> specular,
+//   ...                             n = normal index 0..7 (0 N, 1 NE, 2 E, ..., 7 NW)
+//   emission                      2D only: N rows of N colour names
+//   reflectance                   2D only: N rows of N colour names
+//   voxel X Y [Z] KIND [NORMAL] [rho C] [le C]
+//   fill X0 Y0 [Z0] X1 Y1 [Z1] KIND [NORMAL] [rho C] [le C]     (inclusive box)
+//                                 (rho is required for non-air voxels; le defaults to 0)
+//
+// KIND is air, L, B or S (or lambertian, boundary, specular); NORMAL is an index 0..7 in 2D
+// and three numbers in 3D (normalised on reading); a colour C is a name or three numbers.
+// Reflectance must lie in [0, 1]; emission must be finite and >= 0 (above 1 is fine: the walk
+// circuit divides by the scene's largest emission and the estimate is scaled back). Every
+// error names the file, the line and the problem.
+#pragma once
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "scene.hpp"
+
+namespace qrm {
+
+struct scene_parse_error : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+namespace detail {
+
+class scene_parser {
+ public:
+  scene_parser(std::string_view text, std::string source) : source_(std::move(source)) {
+    std::string line;
+    std::istringstream in{std::string(text)};
+    while (std::getline(in, line)) {
+      const auto hash = line.find('#');
+      if (hash != std::string::npos) line.erase(hash);
+      std::istringstream ls(line);
+      std::vector<std::string> toks;
+      for (std::string t; ls >> t;) toks.push_back(t);
+      lines_.push_back(std::move(toks));
+    }
+  }
+
+  scene parse() {
+    next_content_line();
+    if (at_end()) fail("empty scene file (expected 'qrm-scene 1')");
+    const auto& head = lines_[row_];
+    if (head.size() != 2 || head[0] != "qrm-scene") fail("first line must be 'qrm-scene 1'");
+    if (head[1] != "1") fail("unsupported format version '" + head[1] + "' (this reader knows version 1)");
+    ++row_;
+    std::string name = source_;
+    unsigned dims = 0, size = 0;
+    bool have_scene = false;
+    scene s;
+    for (next_content_line(); !at_end(); next_content_line()) {
+      const auto& t = lines_[row_];
+      const std::string& key = t[0];
+      if (key == "name") {
+        expect_count(t, 2, "name NAME");
+        name = t[1];
+        if (have_scene) s.set_name(name);
+      } else if (key == "dims") {
+        expect_count(t, 2, "dims 2|3");
+        if (have_scene) fail("'dims' must come before any voxel data");
+        dims = static_cast<unsigned>(integer(t[1], "dims"));
+        if (dims != 2 && dims != 3) fail("dims must be 2 or 3, got " + t[1]);
+      } else if (key == "size") {
+        expect_count(t, 2, "size N");
+        if (have_scene) fail("'size' given twice");
+        if (dims == 0) fail("'dims' must come before 'size'");
+        const long long n = integer(t[1], "size");
+        if (n < 2 || n > 4096 || (n & (n - 1)) != 0) fail("size must be a power of two in [2, 4096], got " + t[1]);
+        size = static_cast<unsigned>(n);
+        s = scene(name, dims, size);
+        have_scene = true;
+      } else if (key == "color") {
+        if (t.size() != 5) fail("expected 'color NAME R G B'");
+        colors_[t[1]] = rgb{number(t[2], "color"), number(t[3], "color"), number(t[4], "color")};
+      } else if (key == "kinds" || key == "emission" || key == "reflectance") {
+        need_scene(have_scene, key);
+        if (dims != 2) fail("'" + key + "' grids are for 2D scenes; use voxel/fill lines in 3D");
+        expect_count(t, 1, key);
+        read_grid(s, key);
+        continue;  // read_grid leaves row_ on the next unread line
+      } else if (key == "voxel" || key == "fill") {
+        need_scene(have_scene, key);
+        read_voxels(s, t, key == "fill");
+      } else {
+        fail("unknown statement '" + key + "'");
+      }
+      ++row_;
+    }
+    if (!have_scene) fail_at(last_line(), "the file ends before 'size' (a scene needs 'dims' and 'size')");
+    try {
+      s.validate();
+    } catch (const std::invalid_argument& e) {
+      throw scene_parse_error(source_ + ": " + e.what());
+    }
+    return s;
+  }
+
+ private:
+  bool at_end() const { return row_ >= lines_.size(); }
+  std::size_t last_line() const { return lines_.empty() ? 0 : lines_.size() - 1; }
+  void next_content_line() {
+    while (row_ < lines_.size() && lines_[row_].empty()) ++row_;
+  }
+  [[noreturn]] void fail(const std::string& msg) const { fail_at(row_, msg); }
+  [[noreturn]] void fail_at(std::size_t row, const std::string& msg) const {
+    throw scene_parse_error(source_ + ":" + std::to_string(row + 1) + ": " + msg);
+  }
+  void need_scene(bool have, const std::string& key) const {
+    if (!have) fail("'" + key + "' before 'size' (declare dims and size first)");
+  }
+  void expect_count(const std::vector<std::string>& t, std::size_t n, const std::string& form) const {
+    if (t.size() != n) fail("expected '" + form + "'");
+  }
+  long long integer(const std::string& s, const std::string& what) const {
+    char* end = nullptr;
+    errno = 0;
+    const long long v = std::strtoll(s.c_str(), &end, 10);
+    if (errno != 0 || end == s.c_str() || *end != '\0') fail(what + ": '" + s + "' is not an integer");
+    return v;
+  }
+  double number(const std::string& s, const std::string& what) const {
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(s.c_str(), &end);
+    // ERANGE is underflow (a subnormal or zero, which format_scene can write, e.g. a normalized
+    // normal's tiny component: still a number) or overflow (inf: refused as not finite below).
+    if ((errno != 0 && errno != ERANGE) || end == s.c_str() || *end != '\0') fail(what + ": '" + s + "' is not a number");
+    if (!std::isfinite(v)) fail(what + ": " + s + " is not finite");
+    return v;
+  }
+  rgb color_named(const std::string& n) const {
+    auto it = colors_.find(n);
+    if (it == colors_.end()) fail("unknown colour '" + n + "' (declare it with 'color " + n + " R G B')");
+    return it->second;
+  }
+  void check_reflectance(const rgb& c) const {
+    for (int ch = 0; ch < 3; ++ch)
+      if (!(c[ch] >= 0.0 && c[ch] <= 1.0))
+        fail("reflectance " + std::to_string(c[ch]) + " outside [0, 1] in channel " + "RGB"[ch]);
+  }
+  void check_emission(const rgb& c) const {
+    for (int ch = 0; ch < 3; ++ch)
+      if (!(c[ch] >= 0.0)) fail("emission " + std::to_string(c[ch]) + " is negative in channel " + "RGB"[ch]);
+  }
+  // KIND [NORMAL]: sets kind and normal; returns the next token index.
+  std::size_t read_kind(const std::vector<std::string>& t, std::size_t i, unsigned dims, voxel& v) const {
+    if (i >= t.size()) fail("missing voxel kind (air, L, B or S)");
+    const std::string& k = t[i++];
+    if (k == "air" || k == ".") {
+      v.kind = material::air;
+      return i;
+    }
+    if (k == "L" || k == "lambertian") v.kind = material::lambertian;
+    else if (k == "B" || k == "boundary") v.kind = material::boundary;
+    else if (k == "S" || k == "specular") v.kind = material::specular;
+    else fail("unknown voxel kind '" + k + "' (air, L, B or S)");
+    if (dims == 2) {
+      if (i >= t.size()) fail("missing normal index after kind " + k);
+      set_normal_2d(v, integer(t[i++], "normal"));
+    } else {
+      if (i + 3 > t.size()) fail("missing normal (three numbers) after kind " + k);
+      const vec3 n{number(t[i], "normal"), number(t[i + 1], "normal"), number(t[i + 2], "normal")};
+      i += 3;
+      if (n[0] == 0 && n[1] == 0 && n[2] == 0) fail("normal must be a nonzero vector");
+      // Unit normals are kept bit for bit, so format_scene -> parse_scene round-trips exactly.
+      v.normal = std::abs(norm(n) - 1.0) < 1e-12 ? n : normalized(n);
+    }
+    return i;
+  }
+  void set_normal_2d(voxel& v, long long n) const {
+    if (n < 0 || n > 7) fail("normal index must be 0..7, got " + std::to_string(n));
+    static const int dxy[8][2] = {{0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}};
+    v.normal_index = static_cast<int>(n);
+    v.normal = normalized({double(dxy[n][0]), double(dxy[n][1]), 0.0});
+  }
+  rgb read_color(const std::vector<std::string>& t, std::size_t& i, const std::string& what) const {
+    if (i >= t.size()) fail("missing colour after '" + what + "'");
+    if (colors_.count(t[i])) return colors_.at(t[i++]);
+    if (i + 3 > t.size()) fail("'" + what + "' needs a colour name or three numbers");
+    rgb c{number(t[i], what), number(t[i + 1], what), number(t[i + 2], what)};
+    i += 3;
+    return c;
+  }
+  void read_voxels(scene& s, const std::vector<std::string>& t, bool box) {
+    const unsigned d = s.dims();
+    const std::size_t ncoord = box ? 2 * d : d;
+    if (t.size() < 1 + ncoord) fail(std::string("expected ") + (box ? "fill X0 Y0 [Z0] X1 Y1 [Z1]" : "voxel X Y [Z]") + " KIND ...");
+    long long c[6] = {};
+    for (std::size_t k = 0; k < ncoord; ++k) {
+      c[k] = integer(t[1 + k], "coordinate");
+      if (c[k] < 0 || c[k] >= static_cast<long long>(s.size()))
+        fail("coordinate " + t[1 + k] + " outside the grid [0, " + std::to_string(s.size() - 1) + "]");
+    }
+    voxel v;
+    std::size_t i = read_kind(t, 1 + ncoord, d, v);
+    bool rho_set = false;
+    while (i < t.size()) {
+      const std::string key = t[i++];
+      if (key == "rho") {
+        v.reflectance = read_color(t, i, "rho");
+        check_reflectance(v.reflectance);
+        rho_set = true;
+      } else if (key == "le") {
+        v.emission = read_color(t, i, "le");
+        check_emission(v.emission);
+      } else {
+        fail("unexpected '" + key + "' (expected rho or le)");
+      }
+    }
+    if (!rho_set && v.kind != material::air) fail("a " + std::string(material_name(v.kind)) + " voxel needs 'rho C'");
+    long long lo[3] = {c[0], c[1], d == 3 ? c[2] : 0}, hi[3] = {lo[0], lo[1], lo[2]};
+    if (box) {
+      for (unsigned a = 0; a < d; ++a) hi[a] = c[d + a];
+      for (unsigned a = 0; a < d; ++a)
+        if (hi[a] < lo[a]) fail("fill box is empty (a max coordinate is below its min)");
+    }
+    for (long long z = lo[2]; z <= hi[2]; ++z)
+      for (long long y = lo[1]; y <= hi[1]; ++y)
+        for (long long x = lo[0]; x <= hi[0]; ++x)
+          s.at(static_cast<unsigned>(x), static_cast<unsigned>(y), static_cast<unsigned>(z)) = v;
+  }
+  void read_grid(scene& s, const std::string& key) {
+    const unsigned n = s.size();
+    const std::size_t header = row_;
+    ++row_;
+    for (unsigned y = 0; y < n; ++y) {
+      next_content_line();
+      if (at_end())
+        fail_at(last_line(), "'" + key + "' grid ends after " + std::to_string(y) + " of " + std::to_string(n) +
+                                   " rows (started on line " + std::to_string(header + 1) + ")");
+      const auto& t = lines_[row_];
+      if (t.size() != n)
+        fail("'" + key + "' row " + std::to_string(y) + " has " + std::to_string(t.size()) + " tokens, expected " +
+             std::to_string(n));
+      for (unsigned x = 0; x < n; ++x) {
+        voxel& v = s.at(x, y);
+        const std::string& tok = t[x];
+        if (key == "kinds") {
+          if (tok == ".") {
+            v.kind = material::air;
+            v.normal_index = -1;
+            v.normal = {0, 0, 0};
+            continue;
+          }
+          const char k = tok[0];
+          if (k == 'L') v.kind = material::lambertian;
+          else if (k == 'B') v.kind = material::boundary;
+          else if (k == 'S') v.kind = material::specular;
+          else fail("unknown cell '" + tok + "' at x = " + std::to_string(x) + " (expected ., L<n>, B<n> or S<n>)");
+          set_normal_2d(v, integer(tok.substr(1), "normal of cell '" + tok + "'"));
+        } else if (key == "emission") {
+          v.emission = color_named(tok);
+          check_emission(v.emission);
+        } else {
+          v.reflectance = color_named(tok);
+          check_reflectance(v.reflectance);
+        }
+      }
+      ++row_;
+    }
+  }
+
+  std::string source_;
+  std::vector<std::vector<std::string>> lines_;
+  std::size_t row_ = 0;
+  std::map<std::string, rgb> colors_;
+};
+
+template <int = 0>
+inline std::string format_double(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+}  // namespace detail
+
+// parse_scene(text, source): a scene from the text format; `source` names it in errors.
+template <int = 0>
+inline scene parse_scene(std::string_view text, const std::string& source = "scene") {
+  return detail::scene_parser(text, source).parse();
+}
+
+// load_scene(path): read and parse a scene file.
+template <int = 0>
+inline scene load_scene(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw scene_parse_error(path + ": cannot open the scene file");
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  return parse_scene(ss.str(), path);
+}
+
+// format_scene(s): the scene in the text format, one voxel line per non-default voxel
+// (lossless: numbers are written with 17 significant digits).
+template <int = 0>
+inline std::string format_scene(const scene& s) {
+  using detail::format_double;
+  std::string out = "qrm-scene 1\nname " + (s.name().empty() ? std::string("unnamed") : s.name()) + "\ndims " +
+                    std::to_string(s.dims()) + "\nsize " + std::to_string(s.size()) + "\n";
+  const voxel plain_air{};
+  for (std::size_t i = 0; i < s.voxel_count(); ++i) {
+    const voxel& v = s[i];
+    if (v == plain_air) continue;
+    const auto c = s.coords(i);
+    out += "voxel " + std::to_string(c[0]) + " " + std::to_string(c[1]);
+    if (s.dims() == 3) out += " " + std::to_string(c[2]);
+    switch (v.kind) {
+      case material::air: out += " air"; break;
+      case material::lambertian: out += " L"; break;
+      case material::boundary: out += " B"; break;
+      case material::specular: out += " S"; break;
+    }
+    if (v.kind != material::air) {
+      if (s.dims() == 2)
+        out += " " + std::to_string(v.normal_index);
+      else
+        out += " " + format_double(v.normal[0]) + " " + format_double(v.normal[1]) + " " + format_double(v.normal[2]);
+    }
+    out += " rho " + format_double(v.reflectance.r) + " " + format_double(v.reflectance.g) + " " +
+           format_double(v.reflectance.b);
+    out += " le " + format_double(v.emission.r) + " " + format_double(v.emission.g) + " " + format_double(v.emission.b);
+    out += "\n";
+  }
+  return out;
+}
+
+}  // namespace qrm
