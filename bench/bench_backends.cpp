@@ -13,11 +13,8 @@
 //               direction-controlled add-a-constant on each position register, and a
 //               position-selected Ry on a fresh sample qubit. 2D: 8 compass directions; 3D: the 8
 //               diagonals (+-1, +-1, +-1). The start is the grid centre.
-//   paper_8x8   the paper's 8x8 scene (SPEC.md section 3: its coins, red-channel emission and
-//               reflectance), 3 steps of coin / shift / sample Le_i and rho_i, then the Path gate
-//               (steps register and one multi-controlled X per term): 17 qubits; with `history`,
-//               each step also copies the direction into its own 3-qubit register: 26 qubits;
-//               with `every_cell`, the walk starts from all 64 cells at once (a denser state).
+//   paper_8x8_walk   the library's A operator for the paper's 8x8 scene, as the CLI runs it
+//   paper_8x8_typed  the same operator run from its gate templates, static vs dynamic widths
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -128,127 +125,6 @@ qrm::program open_walk(const open_walk_shape& w) {
   return prog;
 }
 
-// The Lambertian coin of SPEC.md section 3 for normal n (entries 0, +-1/2).
-qrm::dense_matrix lambertian(int n) {
-  auto md = [](int v) { return ((v % 8) + 8) % 8; };
-  const int par[2] = {md(n + 2), md(n - 2)}, inc[3] = {md(n + 3), md(n + 4), md(n + 5)},
-            out[3] = {n, md(n - 1), md(n + 1)};
-  int m[8][8] = {};
-  for (int i : out) {
-    m[par[0]][i] = 1;
-    m[i][par[1]] = 1;
-    for (int j : inc) m[i][j] = 1;
-  }
-  for (int i : inc) {
-    m[i][par[0]] = 1;
-    m[par[1]][i] = 1;
-    for (int j : out) m[i][j] = 1;
-  }
-  for (int i : par) m[i][i] = 1;
-  static constexpr int neg[4][2] = {{2, 3}, {1, 3}, {1, 2}, {-1, -1}};
-  int seen_out = 0, seen_in = 0;
-  for (int r = 0; r < 8; ++r) {
-    const int k = m[r][0] == 0 ? seen_out++ : seen_in++;
-    int ordinal = 0;
-    for (int c = 0; c < 8; ++c) {
-      if (m[r][c] == 0) continue;
-      if (ordinal == neg[k][0] || ordinal == neg[k][1]) m[r][c] = -m[r][c];
-      ++ordinal;
-    }
-  }
-  qrm::dense_matrix u(8);
-  for (std::size_t r = 0; r < 8; ++r)
-    for (std::size_t c = 0; c < 8; ++c) u(r, c) = 0.5 * m[r][c];
-  if (qrm::unitarity_error(u) > 1e-12) throw std::logic_error("lambertian coin is not orthogonal");
-  return u;
-}
-
-qrm::program paper_8x8(bool history, bool every_cell) {
-  // Cells as "kind normal": L = Lambertian, B = boundary, . = air.
-  static const char* coins[8] = {"B3 L4 L4 L4 L4 L4 L4 B5", "L2 .  .  .  .  .  .  L6", "L2 .  .  .  .  .  .  L6",
-                                 "L2 .  L7 L0 L1 .  .  L6", "L2 .  L6 B0 L2 .  .  L6", "L2 .  L5 L4 L3 .  .  L6",
-                                 "L2 .  .  .  .  .  .  L6", "B1 L0 L0 L0 L0 L0 L0 B7"};
-  static const char* emitted[8] = {"kkkwwkkk", "wkkkkkkk", "wkkkkkkk", "wkkkkkkw",
-                                   "wkkkwkkw", "wkkkkkkk", "wkkkkkkk", "kkkwwkkk"};
-  // Red channel of the diffuse colours: W = A = 1, R = 0.5, G = Bl = 0, Gy = 0.75.
-  static const double rho[8][8] = {{.75, 0, 0, 1, 1, 0, 0, .75}, {1, 1, 1, 1, 1, 1, 1, .5},
-                                   {1, 1, 1, 1, 1, 1, 1, .5},    {1, 1, 0, .5, 0, 1, 1, 1},
-                                   {1, 1, .5, 0, 1, 1, 1, 1},    {1, 1, 0, .5, 0, 1, 1, .5},
-                                   {1, 1, 1, 1, 1, 1, 1, .75},   {.75, .75, .75, 1, 1, .75, .75, .75}};
-  const int steps = 3;
-  const auto x = range(0, 3), y = range(3, 3), dir = range(6, 3), le = range(9, 3), rh = range(12, 2),
-             stp = range(14, 2);
-  const qubit_index out = 16;
-  const auto position = range(0, 6);
-  qrm::program prog(history ? 26 : 17);
-  std::vector<qrm::dense_matrix> ms;
-  std::vector<qrm::mux_unitary_entry> coin_cells;
-  for (int i = 0; i < 8; ++i) {
-    qrm::dense_matrix flip(8);  // boundary: d -> d XOR 4
-    for (std::size_t dd = 0; dd < 8; ++dd) flip(dd ^ 4, dd) = 1.0;
-    ms.push_back(lambertian(i));
-    if (i == 0) ms.push_back(flip);
-  }
-  // ms: 0 -> L0, 1 -> boundary, 2..8 -> L1..L7
-  for (std::uint64_t row = 0; row < 8; ++row)
-    for (std::uint64_t col = 0; col < 8; ++col) {
-      const char* cell = coins[row] + 3 * col;
-      if (cell[0] == '.') continue;
-      const int normal = cell[1] - '0';
-      const std::uint32_t id = cell[0] == 'B' ? 1u : (normal == 0 ? 0u : static_cast<std::uint32_t>(normal + 1));
-      coin_cells.push_back({col | (row << 3), id});
-    }
-  std::vector<qrm::mux1_entry> le_cells, rho_cells;
-  for (std::uint64_t row = 0; row < 8; ++row)
-    for (std::uint64_t col = 0; col < 8; ++col) {
-      if (emitted[row][col] == 'w') le_cells.push_back({col | (row << 3), qrm::gate::ry(ry_angle(1.0))});
-      if (rho[row][col] > 0) rho_cells.push_back({col | (row << 3), qrm::gate::ry(ry_angle(rho[row][col]))});
-    }
-  // Start in the air cell (1, 1): x = 1, y = 1, directions uniform; or (stress case) from every
-  // cell at once, a state ~64 times denser.
-  if (every_cell) {
-    for (qubit_index q : position) prog.apply_gate1(qrm::gate::h(), q, {});
-  } else {
-    prog.apply_gate1(qrm::gate::x(), x[0], {});
-    prog.apply_gate1(qrm::gate::x(), y[0], {});
-  }
-  for (qubit_index q : dir) prog.apply_gate1(qrm::gate::h(), q, {});
-  static constexpr int dx[8] = {0, 1, 1, 1, 0, -1, -1, -1}, dy[8] = {-1, -1, 0, 1, 1, 1, 0, -1};
-  for (int s = 0; s < steps; ++s) {
-    prog.apply_mux_unitary(ms, coin_cells, dir, position, {});
-    if (history)
-      for (std::size_t b = 0; b < 3; ++b) {
-        const control c{dir[b], true};
-        prog.apply_gate1(qrm::gate::x(), static_cast<qubit_index>(17 + 3 * s + static_cast<int>(b)),
-                         std::span<const control>(&c, 1));
-      }
-    for (std::uint64_t v = 0; v < 8; ++v) {
-      if (dx[v] != 0) prog.apply_add(dx[v], x, equals(dir, v));
-      if (dy[v] != 0) prog.apply_add(dy[v], y, equals(dir, v));
-    }
-    prog.apply_mux1(le_cells, le[static_cast<std::size_t>(s)], position, {});
-    if (s + 1 < steps) prog.apply_mux1(rho_cells, rh[static_cast<std::size_t>(s)], position, {});
-  }
-  // Path gate: steps register in (|0> + |1> + |2>) / sqrt 3 (a Householder reflection), then
-  // term i flips out when steps == i, Le_i = 1 and rho_k = 1 for k < i.
-  qrm::dense_matrix prep(4);
-  {
-    const double a = 1.0 / std::sqrt(3.0);
-    const double v[4] = {a - 1.0, a, a, 0.0};
-    const double vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-    for (std::size_t r = 0; r < 4; ++r)
-      for (std::size_t c = 0; c < 4; ++c) prep(r, c) = (r == c ? 1.0 : 0.0) - 2.0 * v[r] * v[c] / vv;
-  }
-  prog.apply_unitary(prep, stp, {});
-  for (std::uint64_t i = 0; i < 3; ++i) {
-    auto cs = equals(stp, i);
-    cs.push_back({le[i], true});
-    for (std::uint64_t k = 0; k < i; ++k) cs.push_back({rh[k], true});
-    prog.apply_gate1(qrm::gate::x(), out, cs);
-  }
-  return prog;
-}
-
 template <class B>
 std::size_t peak_bytes(const B& b) {
   if constexpr (requires { b.peak_memory_bytes(); })
@@ -311,11 +187,6 @@ void BM_open_walk(benchmark::State& st) {
   run_program<B>(st, open_walk(w));
 }
 
-template <class B>
-void BM_paper_8x8(benchmark::State& st) {
-  run_program<B>(st, paper_8x8(st.range(0) != 0, st.range(1) != 0));
-}
-
 // The library's own A operator for the paper's 8x8 scene (qrm::make_walk_program with the
 // scene of qrm/walk/paper_scenes.hpp, the paper's 8 directions and the light-map start in cell (1, 1),
 // red channel, 3 steps): the circuit qrm lightmap runs. Args: history (0/1), pruning (0 none,
@@ -329,6 +200,46 @@ void BM_paper_8x8_walk(benchmark::State& st) {
   o.prune = static_cast<qrm::pruning>(st.range(1));
   const qrm::walk_program w = qrm::make_walk_program(m, m.light_map_start({1, 1, 0}), o);
   run_program<B>(st, w.circuit, w.out);
+}
+
+// The same A operator run straight from its gate templates (no program): with static widths
+// (ray_marching_circuit<2, 3, 3, 3>, constant offsets) or dynamic ones (the widths the CLI reads
+// from a scene file). Both keep every qubit of the layout (no idle-qubit removal), so they are
+// compared with each other, not with BM_paper_8x8_walk. Args: static (0/1), history (0/1),
+// pruning (0 none, 2 reachable).
+template <class B, bool Static, qrm::walk_variant V>
+void paper_8x8_typed(benchmark::State& st) {
+  const qrm::walk_model m(qrm::paper_8x8(), qrm::king_2d());
+  const qrm::walk_start start = m.light_map_start({1, 1, 0});
+  const auto prune = static_cast<qrm::pruning>(st.range(2));
+  using static_walk = qrm::ray_marching_circuit<2, 3, 3, 3, V>;
+  using dynamic_walk = qrm::walk_circuit<qrm::dynamic_walk_shape<2, V>>;
+  const auto a = [&] {
+    if constexpr (Static) return static_walk(m, start, 0, prune);
+    else return dynamic_walk(m, start, qrm::walk_options{3, V, prune, 0});
+  }();
+  const std::size_t n = a.num_qubits();
+  double p = 0;
+  for (auto _ : st) {
+    B b = make<B>(n);
+    qrm::run(b, a);
+    benchmark::DoNotOptimize(b);
+    st.PauseTiming();
+    p = b.probability(std::vector<control>{{a.out_qubit(), true}});
+    st.ResumeTiming();
+  }
+  st.counters["qubits"] = static_cast<double>(n);
+  st.counters["p_top"] = p;
+}
+template <class B>
+void BM_paper_8x8_typed(benchmark::State& st) {
+  const bool is_static = st.range(0) != 0, history = st.range(1) != 0;
+  if (is_static)
+    history ? paper_8x8_typed<B, true, qrm::walk_variant::history>(st)
+            : paper_8x8_typed<B, true, qrm::walk_variant::faithful>(st);
+  else
+    history ? paper_8x8_typed<B, false, qrm::walk_variant::history>(st)
+            : paper_8x8_typed<B, false, qrm::walk_variant::faithful>(st);
 }
 
 // One op on a state with every amplitude nonzero (n = 20, real): the compact backend's worst
@@ -410,24 +321,6 @@ BENCHMARK(BM_open_walk<compact_c>)
     ->ArgNames({"dims", "bits", "steps"})
     ->Args({3, 10, 6})
     ->Unit(benchmark::kMillisecond);
-// The paper's 8x8 scene: 17 qubits, 26 with direction history.
-BENCHMARK(BM_paper_8x8<dense_d>)
-    ->ArgNames({"history", "every_cell"})
-    ->ArgsProduct({{0, 1}, {0, 1}})
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_paper_8x8<compact_d>)
-    ->ArgNames({"history", "every_cell"})
-    ->ArgsProduct({{0, 1}, {0, 1}})
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_paper_8x8<dense_c>)
-    ->ArgNames({"history", "every_cell"})
-    ->ArgsProduct({{0}, {0, 1}})
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_paper_8x8<compact_c>)
-    ->ArgNames({"history", "every_cell"})
-    ->ArgsProduct({{0}, {0, 1}})
-    ->Unit(benchmark::kMillisecond);
-
 // The library's 8x8 walk circuit (make_walk_program): faithful 17 qubits, history 23 (unpruned;
 // reachable pruning drops idle qubits).
 BENCHMARK(BM_paper_8x8_walk<dense_d>)
@@ -437,6 +330,16 @@ BENCHMARK(BM_paper_8x8_walk<dense_d>)
 BENCHMARK(BM_paper_8x8_walk<compact_d>)
     ->ArgNames({"history", "prune"})
     ->ArgsProduct({{0, 1}, {0, 2}})
+    ->Unit(benchmark::kMillisecond);
+
+// The typed 8x8 walk, static vs dynamic widths: faithful 17 qubits, history 23.
+BENCHMARK(BM_paper_8x8_typed<dense_d>)
+    ->ArgNames({"static", "history", "prune"})
+    ->ArgsProduct({{0, 1}, {0, 1}, {0, 2}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_paper_8x8_typed<compact_d>)
+    ->ArgNames({"static", "history", "prune"})
+    ->ArgsProduct({{0, 1}, {0, 1}, {0, 2}})
     ->Unit(benchmark::kMillisecond);
 
 // Single ops on a full 20-qubit state.

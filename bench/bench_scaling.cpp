@@ -229,11 +229,11 @@ const char* part_name(walk_part p) {
 // or one layer of step 0.
 qrm::program part_of(const qrm::program& a, walk_part part) {
   if (part == walk_part::whole) return a;
-  const std::vector<qrm::role> roles = qrm::walk_layer_roles(a);
   qrm::program out(a.width());
   int step = -1;
-  for (const qrm::op::any& o : a.ops()) {
-    const qrm::walk_layer l = qrm::walk_layer_of(roles, o);
+  for (std::size_t i = 0; i < a.ops().size(); ++i) {
+    const qrm::op::any& o = a.ops()[i];
+    const qrm::walk_layer l = qrm::recorded_walk_layer(a, i);
     if (l == qrm::walk_layer::coin) ++step;
     if (step != 0 || l == qrm::walk_layer::path || l == qrm::walk_layer::init) continue;
     const bool keep = part == walk_part::step || (part == walk_part::coin && l == qrm::walk_layer::coin) ||

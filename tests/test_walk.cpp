@@ -4,11 +4,14 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <string>
+#include <type_traits>
 
 #include <qrm/walk/classical.hpp>
 #include <qrm/walk/lightmap.hpp>
 #include <qrm/walk/paper_scenes.hpp>
 #include <qrm/walk/circuit.hpp>
+#include <qrm/circuit/qasm.hpp>
 
 namespace {
 
@@ -65,7 +68,45 @@ TEST_CASE("history circuit equals the classical path sum; dense and compact agre
   }
 }
 
-TEST_CASE("the typed circuit has the paper's width and matches the run-time builder") {
+namespace {
+// Everything a program says, op by op: QASM text (angles round-trip exactly) plus the layer labels.
+std::string describe(const qrm::program& p) {
+  std::string r = qrm::to_qasm(p);
+  for (std::size_t i = 0; i < p.size(); ++i) r += std::string(p.layer_of(i) ? p.layer_of(i) : "-") + ";";
+  return r;
+}
+
+// The static-width walk (constant offsets) and the dynamic-width walk (offsets from the model)
+// lower to the same program, op for op, for one start.
+template <class Static>
+void check_static_equals_dynamic(const qrm::walk_model& m, const qrm::walk_start& start, unsigned steps,
+                                 qrm::walk_variant v) {
+  for (qrm::pruning p : {qrm::pruning::none, qrm::pruning::reachable}) {
+    const Static typed(m, start, 0, p);
+    qrm::walk_options o;
+    o.steps = steps;
+    o.variant = v;
+    o.prune = p;
+    const auto dynamic = qrm::with_dynamic_walk(m.dims(), v, [&]<class C>(std::type_identity<C>) {
+      return qrm::record(C(m, start, o));
+    });
+    const qrm::program from_type = qrm::record(typed);
+    CHECK(from_type.width() == Static::width);
+    CHECK(dynamic.width() == Static::width);
+    CHECK(describe(from_type) == describe(dynamic));
+    CHECK(from_type.registers().size() == dynamic.registers().size());
+    // The builder's program is the same with idle qubits removed (plus a qubit for `out` where
+    // no term can fire and `out` was idle).
+    const qrm::walk_program built = qrm::make_walk_program(m, start, o);
+    if (p == qrm::pruning::none) CHECK(describe(from_type) == describe(built.circuit));
+    CHECK(qrm::remove_idle_qubits(from_type).size() == built.circuit.size());
+    // The logical depth stays within the compile-time O(s(p^dims + d)) bound.
+    CHECK(qrm::circuit_metrics_of(from_type).logical_depth <= Static::depth_bound);
+  }
+}
+}  // namespace
+
+TEST_CASE("the static-width walk has the paper's width and lowers exactly as the dynamic-width one") {
   const qrm::scene sc = qrm::paper_8x8();
   const qrm::walk_model m(sc, qrm::king_2d());
   using A = qrm::ray_marching_circuit<2, 3, 3, 3>;
@@ -74,23 +115,32 @@ TEST_CASE("the typed circuit has the paper's width and matches the run-time buil
   static_assert(A::width == 3 + 3 + 3 + 3 + 2 + 2 + 1);
   static_assert(H::width == A::width + 2 * 3);  // (s - 1) * log2 d history qubits
   static_assert(A::is_real);
+  static_assert(A::layout_type::offset<qrm::walk_registers::direction<3>> == 1 + 2 + 3 + 2);  // out, steps, Le, rho below
   const auto start = m.light_map_start({3, 4, 0});
-  for (qrm::pruning p : {qrm::pruning::none, qrm::pruning::reachable}) {
-    const A typed(m, start, 0, p);
-    const qrm::program from_type = qrm::program::from(typed);
-    CHECK(from_type.width() == A::width);
-    qrm::walk_options o;
-    o.prune = p;
-    const auto built = qrm::make_walk_program(m, start, o);
-    // The same ops: the builder's program is the typed one with idle qubits removed.
-    CHECK(qrm::remove_idle_qubits(from_type).size() == built.circuit.size());
-    qrm::state_vector<double> a(A::width);
-    qrm::run(a, typed);
-    const qrm::control out{typed.out_qubit(), true};
-    CHECK(std::abs(a.probability(std::span<const qrm::control>(&out, 1)) - qrm::dense_probability(built)) < 1e-12);
-    // The logical depth stays within the compile-time O(s(p^2 + d)) bound.
-    CHECK(qrm::circuit_metrics_of(from_type).logical_depth <= A::depth_bound);
-  }
+  check_static_equals_dynamic<A>(m, start, 3, qrm::walk_variant::faithful);
+  check_static_equals_dynamic<H>(m, start, 3, qrm::walk_variant::history);
+  // One step: the static layout has no rho (nor hist) register, the dynamic one an empty one.
+  check_static_equals_dynamic<qrm::ray_marching_circuit<2, 3, 3, 1>>(m, start, 1, qrm::walk_variant::faithful);
+  check_static_equals_dynamic<qrm::ray_marching_circuit<2, 3, 3, 1, qrm::walk_variant::history>>(
+      m, start, 1, qrm::walk_variant::history);
+  // 3D with fixed-point positions.
+  qrm::scene box("box", 3, 4);
+  for (unsigned z = 0; z < 4; ++z)
+    for (unsigned x = 0; x < 4; ++x) {
+      qrm::voxel& v = box.at(x, 0, z);
+      v.kind = qrm::material::lambertian;
+      v.normal = {0, 1, 0};
+      v.reflectance = {0.5, 0.5, 0.5};
+      v.emission = {1, 1, 1};
+    }
+  const qrm::walk_model m3(box, qrm::golden_spiral(15, 2));
+  check_static_equals_dynamic<qrm::ray_marching_circuit<3, 2, 4, 2, qrm::walk_variant::history, 2>>(
+      m3, m3.light_map_start({1, 1, 1}), 2, qrm::walk_variant::history);
+
+  // A scene that does not fit the circuit type: the error names the register.
+  const qrm::walk_model m4(qrm::paper_4x4(), qrm::king_2d());
+  CHECK_THROWS_WITH_AS(A(m4, m4.light_map_start({1, 1, 0})), "register 'x' has 3 qubits in the layout type, but 2 are needed",
+                       std::invalid_argument);
 }
 
 TEST_CASE("pruning removes gates, depth and qubits") {

@@ -103,10 +103,10 @@ auto unroll(F&& f) {
 
 // gate_in_layout<G, L>: every register G touches is part of L.
 template <class G, class L>
-concept gate_in_layout = static_gate<G> && layout_type<L> && detail::every_in<typename G::registers, typename L::registers>;
+concept gate_in_layout = static_gate<G> && static_layout<L> && detail::every_in<typename G::registers, typename L::registers>;
 
 // circuit<L, G...>: gates bound to a layout, with compile-time metrics.
-template <layout_type L, static_gate... G>
+template <static_layout L, static_gate... G>
 struct circuit {
   using layout_type = L;
   using body_type = seq<G...>;
@@ -157,7 +157,7 @@ struct circuit {
 };
 
 // make_circuit<L>(g...): bind gates to layout L.
-template <layout_type L, static_gate... G>
+template <static_layout L, static_gate... G>
 circuit<L, G...> make_circuit(G... g) {
   return circuit<L, G...>(std::move(g)...);
 }
@@ -182,11 +182,15 @@ void run(B& backend, const C& c) {
   static_assert(complex_gate_needs_complex_backend,
                 "complex_gate_needs_complex_backend: the circuit has a complex gate but the backend stores real "
                 "amplitudes; use std::complex<double> or std::complex<float>");
+  std::size_t needed = 0;
   if constexpr (is_circuit_v<C>) {
-    if (backend.num_qubits() < C::width)
-      throw std::invalid_argument("run: the circuit needs " + std::to_string(C::width) + " qubits but the backend has " +
-                                  std::to_string(backend.num_qubits()));
+    needed = C::width;
+  } else if constexpr (requires { c.num_qubits(); }) {
+    needed = c.num_qubits();  // a typed circuit on a layout with dynamic widths
   }
+  if (backend.num_qubits() < needed)
+    throw std::invalid_argument("run: the circuit needs " + std::to_string(needed) + " qubits but the backend has " +
+                                std::to_string(backend.num_qubits()));
   c.emit(backend);
 }
 

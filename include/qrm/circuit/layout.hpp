@@ -3,6 +3,10 @@
 #pragma once
 
 #include <array>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
@@ -22,13 +26,102 @@ struct register_info {
   std::size_t width;
 };
 
+namespace detail {
+template <class R, class... Regs>
+constexpr std::size_t index_in_pack() {
+  std::size_t i = 0;
+  bool found = false;
+  ((found = found || std::is_same_v<R, Regs>, i += found ? 0 : 1), ...);
+  return i;
+}
+
+// The storage of a layout whose widths are all constants: everything is a constant expression.
+template <bool AllStatic, class... Regs>
+struct layout_storage {
+  static constexpr bool is_static = true;
+  static constexpr std::size_t width = (Regs::width + ... + 0);
+
+ private:
+  static constexpr std::array<register_info, sizeof...(Regs)> infos() {
+    std::array<register_info, sizeof...(Regs)> r{};
+    qubit_index off = 0;
+    std::size_t i = 0;
+    ((r[i++] = register_info{Regs::name, Regs::kind, off, Regs::width}, off += static_cast<qubit_index>(Regs::width)),
+     ...);
+    return r;
+  }
+
+ public:
+  static constexpr std::array<register_info, sizeof...(Regs)> register_table = infos();
+
+  // offset<R>: the qubit index of R's least significant qubit.
+  template <class R>
+  static constexpr qubit_index offset = [] {
+    static_assert((std::is_same_v<R, Regs> || ...),
+                  "register_must_belong_to_layout: the register is not part of this layout");
+    return register_table[index_in_pack<R, Regs...>()].offset;
+  }();
+
+  static constexpr std::size_t num_qubits() { return width; }
+  static constexpr std::span<const register_info> registers_info() { return register_table; }
+};
+
+// The storage of a layout with dynamic widths: widths given at construction, checked there by
+// the rules a static register states at compile time (same rule names in the message).
+template <class... Regs>
+struct layout_storage<false, Regs...> {
+  static constexpr bool is_static = false;
+  static constexpr std::size_t dynamic_count = ((Regs::is_dynamic ? 1 : 0) + ... + 0);
+
+  // layout<R...>(w...): one width per dynamic register, in layout order. A dynamic register may
+  // be empty (width 0): present in the type, absent at this size (the walk's rho register at s = 1).
+  template <class... W>
+    requires(sizeof...(W) == dynamic_count && (std::is_convertible_v<W, std::size_t> && ...))
+  explicit layout_storage(W... dynamic_widths)
+      : layout_storage(std::array<std::size_t, dynamic_count>{static_cast<std::size_t>(dynamic_widths)...}) {}
+
+  explicit layout_storage(const std::array<std::size_t, dynamic_count>& given) {
+    std::size_t next = 0, i = 0;
+    qubit_index off = 0;
+    (
+        [&] {
+          std::size_t w = 0;
+          if constexpr (Regs::is_dynamic) {
+            w = given[next++];
+          } else {
+            w = Regs::width;
+          }
+          if (w > 64)
+            throw std::invalid_argument("register_width_must_fit_64_bits: register '" + std::string(Regs::name) +
+                                        "' is " + std::to_string(w) + " qubits wide; register values are 64-bit numbers");
+          table_[i++] = register_info{Regs::name, Regs::kind, off, w};
+          off += static_cast<qubit_index>(w);
+        }(),
+        ...);
+    width_ = off;
+  }
+
+  std::size_t num_qubits() const { return width_; }
+  std::span<const register_info> registers_info() const { return table_; }
+
+ protected:
+  std::array<register_info, sizeof...(Regs)> table_{};
+  std::size_t width_ = 0;
+};
+}  // namespace detail
+
 // layout<R...>: registers placed one after another from qubit 0 (the first register holds the
-// least significant qubits of a basis-state index).
+// least significant qubits of a basis-state index). With static widths every offset is a
+// constant (layout<...>::offset<R>); with dynamic widths (reg<Name, dynamic_width, Role>) a
+// layout object is built from the run-time widths. Both answer offset_of<R>() and width_of<R>().
 template <register_type... Regs>
-struct layout {
+struct layout : detail::layout_storage<(static_register<Regs> && ...), Regs...> {
+  using storage = detail::layout_storage<(static_register<Regs> && ...), Regs...>;
+  using storage::storage;
+  layout() requires(storage::is_static) = default;
+
   using registers = detail::type_list<Regs...>;
   static constexpr std::size_t register_count = sizeof...(Regs);
-  static constexpr std::size_t width = (Regs::width + ... + 0);
 
   static constexpr bool registers_must_be_distinct =
       std::is_same_v<detail::list_unique_t<registers>, registers>;
@@ -41,32 +134,58 @@ struct layout {
   template <class R>
   static constexpr bool contains = detail::list_contains<R, registers>;
 
- private:
+  // offset_of<R>() / width_of<R>(): where R starts and how many qubits it has (constant
+  // expressions when the layout is static).
   template <class R>
-  static constexpr qubit_index offset_impl() {
-    qubit_index off = 0;
-    bool found = false;
-    ((found = found || std::is_same_v<R, Regs>, off += found ? 0 : static_cast<qubit_index>(Regs::width)), ...);
-    return off;
-  }
-  static constexpr std::array<register_info, sizeof...(Regs)> infos() {
-    std::array<register_info, sizeof...(Regs)> r{};
-    qubit_index off = 0;
-    std::size_t i = 0;
-    ((r[i++] = register_info{Regs::name, Regs::kind, off, Regs::width}, off += static_cast<qubit_index>(Regs::width)),
-     ...);
-    return r;
-  }
-
- public:
-  // offset<R>: the qubit index of R's least significant qubit.
-  template <class R>
-  static constexpr qubit_index offset = [] {
+  constexpr qubit_index offset_of() const {
     static_assert(contains<R>, "register_must_belong_to_layout: the register is not part of this layout");
-    return offset_impl<R>();
-  }();
+    return this->registers_info()[detail::index_in_pack<R, Regs...>()].offset;
+  }
+  template <class R>
+  constexpr std::size_t width_of() const {
+    static_assert(contains<R>, "register_must_belong_to_layout: the register is not part of this layout");
+    return this->registers_info()[detail::index_in_pack<R, Regs...>()].width;
+  }
+  // qubit_of<R>(i): qubit i of R (i counted from R's least significant qubit), checked.
+  template <class R>
+  constexpr qubit_index qubit_of(std::size_t i) const {
+    if (i >= width_of<R>())
+      throw std::out_of_range("bit_index_must_be_within_register: bit " + std::to_string(i) + " of register '" +
+                              std::string(R::name) + "', which has " + std::to_string(width_of<R>()) + " qubits");
+    return offset_of<R>() + static_cast<qubit_index>(i);
+  }
+  // with_widths(w): the layout whose i-th register has w[i] qubits. A static register must have
+  // exactly its declared width: the error names it (a scene that does not fit a typed circuit).
+  static layout with_widths(const std::array<std::size_t, sizeof...(Regs)>& w) {
+    std::size_t i = 0;
+    (
+        [&] {
+          if constexpr (!Regs::is_dynamic)
+            if (w[i] != Regs::width)
+              throw std::invalid_argument("register '" + std::string(Regs::name) + "' has " +
+                                          std::to_string(Regs::width) + " qubits in the layout type, but " +
+                                          std::to_string(w[i]) + " are needed");
+          ++i;
+        }(),
+        ...);
+    if constexpr (storage::is_static) {
+      return layout{};
+    } else {
+      std::array<std::size_t, storage::dynamic_count> dynamic{};
+      std::size_t next = 0;
+      i = 0;
+      ((Regs::is_dynamic ? void(dynamic[next++] = w[i++]) : void(i++)), ...);
+      return layout(dynamic);
+    }
+  }
 
-  static constexpr std::array<register_info, sizeof...(Regs)> register_table = infos();
+  // qubits_of<R>(): R's qubits, least significant first.
+  template <class R>
+  std::vector<qubit_index> qubits_of() const {
+    std::vector<qubit_index> q(width_of<R>());
+    for (std::size_t i = 0; i < q.size(); ++i) q[i] = offset_of<R>() + static_cast<qubit_index>(i);
+    return q;
+  }
 };
 
 template <class T>
@@ -76,6 +195,9 @@ inline constexpr bool is_layout_v<layout<R...>> = true;
 // layout_type: any qrm::layout<...>.
 template <class T>
 concept layout_type = is_layout_v<T>;
+// static_layout: a layout whose offsets are all constants (what circuit<> and the selectors need).
+template <class T>
+concept static_layout = layout_type<T> && T::is_static;
 
 // ---- qubit selectors ------------------------------------------------------------------------
 
@@ -102,6 +224,10 @@ namespace detail {
 template <class S>
 struct selector_traits {
   static constexpr bool valid = false;
+};
+template <fixed_string N, role Ro>
+struct selector_traits<reg<N, dynamic_width, Ro>> {
+  static constexpr bool valid = false;  // its qubits are known only to a layout object
 };
 template <fixed_string N, std::size_t W, role Ro>
 struct selector_traits<reg<N, W, Ro>> {
@@ -165,7 +291,7 @@ template <selector S>
 inline constexpr std::size_t selector_width = detail::selector_traits<S>::count;
 
 // resolve<L, S>(): the qubit indices S names in layout L, least significant first.
-template <layout_type L, selector S>
+template <static_layout L, selector S>
 constexpr std::array<qubit_index, selector_width<S>> resolve() {
   return detail::selector_traits<S>::template resolve<L>();
 }

@@ -173,4 +173,12 @@ concept gate_sink = requires(S& s, const gate1& g, qubit_index q, std::span<cons
   s.apply_mux_unitary(ms, ek, qs, qs, cs);
 };
 
+// enter_layer(sink, name): the ops that follow belong to the layer `name` (a string literal,
+// e.g. the walk's "coin"). A sink that records (program) keeps the label with each op, so the
+// layers survive lowering; a backend has no such member and ignores it.
+template <class S>
+void enter_layer(S& sink, const char* name) {
+  if constexpr (requires { sink.enter_layer(name); }) sink.enter_layer(name);
+}
+
 }  // namespace qrm

@@ -165,6 +165,12 @@ class program {
   const std::vector<register_info>& registers() const { return registers_; }
   void set_registers(std::vector<register_info> r) { registers_ = std::move(r); }
   std::size_t size() const { return ops_.size(); }
+
+  // Layer labels: ops pushed after enter_layer(name) carry `name` (nullptr: no layer). Static
+  // strings only; the label is what a typed circuit knew when it was lowered.
+  void enter_layer(const char* name) { current_layer_ = name; }
+  const char* layer_of(std::size_t op) const { return op < layers_.size() ? layers_[op] : nullptr; }
+  const std::vector<const char*>& layers() const { return layers_; }
   bool is_real() const { return std::all_of(ops_.begin(), ops_.end(), op_is_real); }
 
   void push(op::any o) {
@@ -173,11 +179,14 @@ class program {
         throw std::invalid_argument("program: op uses qubit " + std::to_string(q) + " but the program has " +
                                     std::to_string(width_) + " qubits");
     ops_.push_back(std::move(o));
+    layers_.push_back(current_layer_);
   }
   template <int = 0>
   void append(const program& other) {
     if (other.width_ > width_) width_ = other.width_;
     ops_.insert(ops_.end(), other.ops_.begin(), other.ops_.end());
+    layers_.insert(layers_.end(), other.layers_.begin(), other.layers_.end());
+    layers_.resize(ops_.size(), nullptr);
   }
 
   // gate_sink: record.
@@ -204,7 +213,11 @@ class program {
   // Replay into a sink (a backend runs the program this way).
   template <gate_sink S>
   void emit(S& sink) const {
-    for (const op::any& o : ops_) emit_op(o, sink);
+    const char* layer = nullptr;
+    for (std::size_t i = 0; i < ops_.size(); ++i) {
+      if (layer_of(i) != layer) qrm::enter_layer(sink, layer = layer_of(i));
+      emit_op(ops_[i], sink);
+    }
   }
 
   // The inverse program: ops reversed, each inverted.
@@ -213,6 +226,8 @@ class program {
     r.registers_ = registers_;
     r.ops_.reserve(ops_.size());
     for (auto it = ops_.rbegin(); it != ops_.rend(); ++it) r.ops_.push_back(op_adjoint(*it));
+    r.layers_.assign(layers_.rbegin(), layers_.rend());
+    r.layers_.resize(r.ops_.size(), nullptr);
     return r;
   }
 
@@ -220,6 +235,8 @@ class program {
   std::size_t width_ = 0;
   std::vector<register_info> registers_;
   std::vector<op::any> ops_;
+  std::vector<const char*> layers_;  // one per op
+  const char* current_layer_ = nullptr;
 };
 
 // run(backend, program): programs are checked at run time (width, and real vs complex).

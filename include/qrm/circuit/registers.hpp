@@ -32,7 +32,13 @@ constexpr std::uint64_t max_value_of_width(std::size_t width) {
   return width >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << width) - 1;
 }
 
+// dynamic_width: a register width fixed when its layout is built (a scene read at run time), in
+// the spirit of std::dynamic_extent.
+inline constexpr std::size_t dynamic_width = ~std::size_t{0};
+
 // reg<Name, Width, Role>: a register of Width qubits, read as a little-endian unsigned number.
+// Its name and role are always types; Width is a constant, or dynamic_width (then the layout
+// holds it, and the rules below are checked when the layout is built).
 template <detail::fixed_string Name, std::size_t Width, role Role = role::ancilla>
 struct reg {
   static constexpr bool register_width_must_be_positive = Width >= 1;
@@ -42,8 +48,18 @@ struct reg {
 
   static constexpr std::string_view name = Name.view();
   static constexpr std::size_t width = Width;
+  static constexpr bool is_dynamic = false;
   static constexpr role kind = Role;
   static constexpr std::uint64_t max_value = max_value_of_width(Width);
+};
+
+// reg<Name, dynamic_width, Role>: no `width` member, so a facility that needs the width at compile
+// time (bit<>, slice<>, when<> values, circuit<>) refuses the register by name.
+template <detail::fixed_string Name, role Role>
+struct reg<Name, dynamic_width, Role> {
+  static constexpr std::string_view name = Name.view();
+  static constexpr bool is_dynamic = true;
+  static constexpr role kind = Role;
 };
 
 namespace detail {
@@ -51,11 +67,16 @@ template <class T>
 inline constexpr bool is_reg = false;
 template <fixed_string N, std::size_t W, role R>
 inline constexpr bool is_reg<reg<N, W, R>> = true;
+
 }  // namespace detail
 
-// register_type: any qrm::reg<...>.
+// register_type: any qrm::reg<...>; static_register / dynamic_register by how its width is known.
 template <class T>
 concept register_type = detail::is_reg<T>;
+template <class T>
+concept static_register = register_type<T> && !T::is_dynamic;
+template <class T>
+concept dynamic_register = register_type<T> && T::is_dynamic;
 
 // The registers of the ray-marching circuit, named by role (names default to the paper's).
 template <detail::fixed_string Name, std::size_t Width>

@@ -30,6 +30,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <memory>
+#include <type_traits>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -42,6 +44,7 @@
 #include "../circuit/ops.hpp"
 #include "../circuit/program.hpp"
 #include "../circuit/registers.hpp"
+#include "gates.hpp"
 #include "model.hpp"
 
 namespace qrm {
@@ -60,46 +63,8 @@ struct walk_options {
   int channel = 0;  // 0 R, 1 G, 2 B
 };
 
-// The qubits of a walk circuit, as run-time indices.
-struct walk_qubits {
-  std::array<std::vector<qubit_index>, 3> axis;  // per axis, least significant (fractional) bit first
-  std::vector<qubit_index> select;               // voxel index: integer bits of x, then y, then z
-  std::vector<qubit_index> dir, le, rho, steps, history;
-  qubit_index out = 0;
-  std::size_t width = 0;
-  std::vector<register_info> registers;
-};
-
 // Bits of the steps register for S path terms.
 constexpr std::size_t steps_register_bits(std::size_t terms) { return bits_for(terms); }
-
-// make_walk_qubits(...): the register order documented above, for run-time sizes.
-template <int = 0>
-inline walk_qubits make_walk_qubits(unsigned dims, unsigned position_bits, unsigned fractional_bits,
-                                    unsigned direction_bits, unsigned steps, walk_variant variant) {
-  if (steps < 1) throw std::invalid_argument("walk: steps must be at least 1");
-  walk_qubits q;
-  qubit_index next = 0;
-  auto take = [&](std::vector<qubit_index>& v, std::size_t n, std::string_view name, role r) {
-    if (n == 0) return;
-    q.registers.push_back({name, r, next, n});
-    for (std::size_t i = 0; i < n; ++i) v.push_back(next++);
-  };
-  std::vector<qubit_index> out;
-  take(out, 1, "out", role::out);
-  q.out = out[0];
-  take(q.steps, steps_register_bits(steps), "steps", role::steps);
-  take(q.le, steps, "Le", role::emission);
-  take(q.rho, steps - 1, "rho", role::reflectance);
-  if (variant == walk_variant::history) take(q.history, (steps - 1) * direction_bits, "hist", role::history);
-  take(q.dir, direction_bits, "dir", role::direction);
-  const char* names[3] = {"x", "y", "z"};
-  for (unsigned a = 0; a < dims; ++a) take(q.axis[a], position_bits + fractional_bits, names[a], role::position);
-  for (unsigned a = 0; a < dims; ++a)
-    for (unsigned b = 0; b < position_bits; ++b) q.select.push_back(q.axis[a][fractional_bits + b]);
-  q.width = next;
-  return q;
-}
 
 // The scene-dependent tables of one A operator.
 struct walk_tables {
@@ -238,124 +203,228 @@ inline walk_tables build_walk_tables(const walk_model& m, const walk_start& star
   return t;
 }
 
-// emit_walk(sink, tables, qubits): the A operator's primitive ops.
-template <gate_sink S>
-void emit_walk(S& sink, const walk_tables& t, const walk_qubits& q) {
-  const std::span<const control> none;
-  // Init: position, then direction.
-  for (unsigned a = 0; a < t.dims; ++a)
-    for (std::size_t b = 0; b < q.axis[a].size(); ++b)
-      if ((t.start_pos[a] >> b) & 1u) sink.apply_gate1(gate::x(), q.axis[a][b], none);
-  if (t.start_dir >= 0) {
-    for (std::size_t b = 0; b < q.dir.size(); ++b)
-      if ((static_cast<unsigned>(t.start_dir) >> b) & 1u) sink.apply_gate1(gate::x(), q.dir[b], none);
-  } else if (t.dir_count == (std::size_t{1} << q.dir.size())) {
-    for (qubit_index b : q.dir) sink.apply_gate1(gate::h(), b, none);
-  } else {
-    detail::emit_uniform_preparation(sink, std::span<const qubit_index>(q.dir), t.dir_count, false, none);
-  }
-  std::vector<control> dir_is(q.dir.size());
-  const std::size_t dbits = q.dir.size();
-  for (unsigned i = 0; i < t.emitted_steps; ++i) {
-    if (!t.coin_entries[i].empty())
-      sink.apply_mux_unitary(t.coin_matrices, t.coin_entries[i], q.dir, q.select, none);
-    if (t.variant == walk_variant::history && i + 1 < t.emitted_steps)
-      for (std::size_t b = 0; b < dbits; ++b) {
-        const control c{q.dir[b], true};
-        sink.apply_gate1(gate::x(), q.history[i * dbits + b], std::span<const control>(&c, 1));
-      }
-    for (std::size_t d = 0; d < t.dir_count; ++d) {
-      for (std::size_t b = 0; b < dbits; ++b) dir_is[b] = {q.dir[b], ((d >> b) & 1u) != 0};
-      for (unsigned a = 0; a < t.dims; ++a)
-        if (t.displacement[d][a] != 0) sink.apply_add(t.displacement[d][a], q.axis[a], dir_is);
-    }
-    if (!t.le_entries[i].empty()) sink.apply_mux1(t.le_entries[i], q.le[i], q.select, none);
-    if (i + 1 < t.steps && !t.rho_entries[i].empty()) sink.apply_mux1(t.rho_entries[i], q.rho[i], q.select, none);
-  }
-  // Path.
-  detail::emit_uniform_preparation(sink, std::span<const qubit_index>(q.steps), t.steps, false, none);
-  std::vector<control> cs;
-  for (unsigned i = 0; i < t.steps; ++i) {
-    if (!t.term_kept[i]) continue;
-    cs.clear();
-    for (std::size_t b = 0; b < q.steps.size(); ++b) cs.push_back({q.steps[b], ((i >> b) & 1u) != 0});
-    cs.push_back({q.le[i], true});
-    for (unsigned k = 0; k < i; ++k) cs.push_back({q.rho[k], true});
-    sink.apply_gate1(gate::x(), q.out, cs);
-  }
-}
+// ---- the walk as a typed circuit -------------------------------------------------------------
 
-// ---- the typed circuit ------------------------------------------------------------------------
+namespace detail {
+// Stands for a register a static walk does not have (rho at s = 1, hist in the faithful walk):
+// dropped from the layout, and the gates that would use it check layout::contains.
+struct absent_register {};
+template <class Kept, class Rest>
+struct drop_absent_registers {
+  using type = Kept;
+};
+template <class... Kept, class R, class... Rest>
+struct drop_absent_registers<type_list<Kept...>, type_list<R, Rest...>> {
+  using type = typename drop_absent_registers<
+      std::conditional_t<std::is_same_v<R, absent_register>, type_list<Kept...>, type_list<Kept..., R>>,
+      type_list<Rest...>>::type;
+};
+template <class List>
+struct layout_of_list;
+template <class... R>
+struct layout_of_list<type_list<R...>> {
+  using type = layout<R...>;
+};
+constexpr std::size_t width_or_dynamic(bool dynamic, std::size_t w) { return dynamic ? dynamic_width : w; }
+}  // namespace detail
+
+// walk_shape<Dims, PositionBits, DirectionBits, Steps, Variant, FractionalBits>: the sizes of an A
+// operator, each a constant or dynamic_width, and the registers and layout they give. Register
+// order (first = least significant): out, steps, Le, rho, hist, dir, x, y, z, so the voxel-index
+// select register sits on the highest qubits (each multiplexer entry then touches one contiguous
+// block of the dense state). A static one-step walk has no rho register; only the history variant
+// has hist ((s - 1) direction copies).
+template <std::size_t Dims, std::size_t PositionBits, std::size_t DirectionBits, std::size_t Steps,
+          walk_variant Variant = walk_variant::faithful, std::size_t FractionalBits = 0>
+struct walk_shape {
+  static constexpr bool dims_must_be_2_or_3 = Dims == 2 || Dims == 3;
+  static_assert(dims_must_be_2_or_3, "dims_must_be_2_or_3: a walk runs on a 2D grid or 3D voxels");
+  static constexpr bool steps_must_be_positive = Steps == dynamic_width || Steps >= 1;
+  static_assert(steps_must_be_positive, "steps_must_be_positive: a walk takes at least one step");
+  static constexpr bool position_bits_must_be_positive = PositionBits == dynamic_width || PositionBits >= 1;
+  static_assert(position_bits_must_be_positive, "position_bits_must_be_positive: a grid has at least 2 cells per axis");
+  static constexpr bool two_d_walks_move_whole_cells = Dims == 3 || FractionalBits == 0;
+  static_assert(two_d_walks_move_whole_cells, "two_d_walks_move_whole_cells: 2D walks have no fractional position bits");
+
+  static constexpr std::size_t dims = Dims;
+  static constexpr walk_variant variant = Variant;
+  static constexpr bool is_static = PositionBits != dynamic_width && DirectionBits != dynamic_width &&
+                                    Steps != dynamic_width && FractionalBits != dynamic_width;
+
+ private:
+  static constexpr bool dyn_s = Steps == dynamic_width, dyn_d = DirectionBits == dynamic_width;
+  static constexpr bool dyn_p = PositionBits == dynamic_width || FractionalBits == dynamic_width;
+
+ public:
+  using out = walk_registers::out;
+  using steps = walk_registers::steps<detail::width_or_dynamic(dyn_s, dyn_s ? 0 : steps_register_bits(Steps))>;
+  using emission = walk_registers::emission<Steps>;
+  using reflectance = std::conditional_t<!dyn_s && Steps == 1, detail::absent_register,
+                                         walk_registers::reflectance<detail::width_or_dynamic(dyn_s, dyn_s ? 0 : Steps - 1)>>;
+  using history = std::conditional_t<
+      Variant == walk_variant::faithful || (!dyn_s && Steps == 1), detail::absent_register,
+      walk_registers::history<detail::width_or_dynamic(dyn_s || dyn_d, dyn_s || dyn_d ? 0 : (Steps - 1) * DirectionBits)>>;
+  using direction = walk_registers::direction<DirectionBits>;
+  static constexpr std::size_t axis_width = detail::width_or_dynamic(dyn_p, dyn_p ? 0 : PositionBits + FractionalBits);
+  using axes = std::conditional_t<Dims == 2, detail::type_list<walk_registers::x<axis_width>, walk_registers::y<axis_width>>,
+                                  detail::type_list<walk_registers::x<axis_width>, walk_registers::y<axis_width>,
+                                                    walk_registers::z<axis_width>>>;
+  using layout = typename detail::layout_of_list<typename detail::drop_absent_registers<
+      detail::type_list<>,
+      detail::list_join_t<detail::type_list<out, steps, emission, reflectance, history, direction>, axes>>::type>::type;
+};
+
+// A walk of any size known only at run time (what the CLI, light maps and renderers run).
+template <std::size_t Dims, walk_variant Variant>
+using dynamic_walk_shape =
+    walk_shape<Dims, dynamic_width, dynamic_width, dynamic_width, Variant, Dims == 2 ? 0 : dynamic_width>;
+
+namespace detail {
+// The widths of L's registers for a model and step count (by role: the walk's registers are one
+// per role).
+template <class... R>
+std::array<std::size_t, sizeof...(R)> walk_register_widths(type_list<R...>, const walk_model& m, unsigned s,
+                                                           walk_variant v) {
+  auto width = [&](role r) -> std::size_t {
+    switch (r) {
+      case role::out: return 1;
+      case role::steps: return steps_register_bits(s);
+      case role::emission: return s;
+      case role::reflectance: return s - 1;
+      case role::history: return v == walk_variant::history ? (s - 1) * m.direction_bits() : 0;
+      case role::direction: return m.direction_bits();
+      case role::position: return m.position_bits() + m.fractional_bits();
+      case role::ancilla: break;
+    }
+    return 0;
+  };
+  return {width(R::kind)...};
+}
+}  // namespace detail
+
+// walk_circuit<Shape>: the A operator for one start point, composed of the walk's gate templates
+// (walk/gates.hpp) over Shape's layout: Init, then per step Coin, [History], Shift, Sample, then
+// Path. With a static shape the layout's offsets are constants; with a dynamic one they come
+// from the model. Emitting labels each op with its walk_layer.
+template <class Shape>
+class walk_circuit {
+ public:
+  using shape = Shape;
+  using layout_type = typename Shape::layout;
+  // The 2D coins (+-1/2 Lambertian, permutations) are real; 3D Lambertian coins may need
+  // complex phases.
+  static constexpr bool is_real = Shape::dims == 2;
+  using axes = typename Shape::axes;
+  using init_gate = walk_init<axes, typename Shape::direction>;
+  using coin_gate = walk_coin<typename Shape::direction, axes>;
+  using history_gate = walk_history<typename Shape::direction, typename Shape::history>;
+  using shift_gate = walk_shift<typename Shape::direction, axes>;
+  using sample_gate = walk_sample<typename Shape::emission, typename Shape::reflectance, axes>;
+  using path_gate = walk_path<typename Shape::steps, typename Shape::emission, typename Shape::reflectance,
+                              typename Shape::out>;
+
+  // One step's gates.
+  struct step {
+    coin_gate coin;
+    bool copy_history = false;
+    history_gate history;
+    shift_gate shift;
+    sample_gate sample;
+  };
+
+  walk_circuit(const walk_model& m, const walk_start& start, const walk_options& o)
+      : layout_(make_layout(m, o)), tables_(build_walk_tables(m, start, o)) {
+    const walk_tables& t = tables_;
+    const std::size_t frac = m.fractional_bits();
+    init_.start_pos = t.start_pos;
+    init_.start_dir = t.start_dir;
+    init_.dir_count = t.dir_count;
+    const auto matrices = std::make_shared<const std::vector<dense_matrix>>(t.coin_matrices);
+    const auto displacement = std::make_shared<const std::vector<std::array<std::int64_t, 3>>>(
+        t.displacement.begin(), t.displacement.begin() + static_cast<std::ptrdiff_t>(t.dir_count));
+    steps_.resize(t.emitted_steps);
+    for (unsigned i = 0; i < t.emitted_steps; ++i) {
+      step& g = steps_[i];
+      g.coin = {matrices, t.coin_entries[i], frac};
+      g.copy_history = t.variant == walk_variant::history && i + 1 < t.emitted_steps;
+      g.history.step = i;
+      g.shift.displacement = displacement;
+      g.sample.step = i;
+      g.sample.le = t.le_entries[i];
+      if (i + 1 < t.steps) g.sample.rho = t.rho_entries[i];
+      g.sample.fractional_bits = frac;
+    }
+    path_.terms = t.steps;
+    path_.kept = t.term_kept;
+  }
+
+  const layout_type& layout() const { return layout_; }
+  const walk_tables& tables() const { return tables_; }
+  const init_gate& init() const { return init_; }
+  const std::vector<step>& steps() const { return steps_; }
+  const path_gate& path() const { return path_; }
+  std::size_t num_qubits() const { return layout_.num_qubits(); }
+  qubit_index out_qubit() const { return layout_.template offset_of<typename Shape::out>(); }
+
+  template <gate_sink S>
+  void emit(S& sink) const {
+    emit_layer(layout_, sink, init_);
+    for (const step& g : steps_) {
+      emit_layer(layout_, sink, g.coin);
+      if (g.copy_history) emit_layer(layout_, sink, g.history);
+      emit_layer(layout_, sink, g.shift);
+      emit_layer(layout_, sink, g.sample);
+    }
+    emit_layer(layout_, sink, path_);
+    enter_layer(sink, nullptr);
+  }
+
+ private:
+  static layout_type make_layout(const walk_model& m, const walk_options& o) {
+    if (m.dims() != Shape::dims)
+      throw std::invalid_argument("walk: the circuit type is for " + std::to_string(Shape::dims) +
+                                  "D scenes, the scene is " + std::to_string(m.dims()) + "D");
+    if (o.variant != Shape::variant)
+      throw std::invalid_argument("walk: the circuit type's variant differs from the options'");
+    if (o.steps < 1 || o.steps > 64) throw std::invalid_argument("walk: steps must be in [1, 64], got " + std::to_string(o.steps));
+    return layout_type::with_widths(
+        detail::walk_register_widths(typename layout_type::registers{}, m, o.steps, o.variant));
+  }
+
+  layout_type layout_;
+  walk_tables tables_;
+  init_gate init_;
+  std::vector<step> steps_;
+  path_gate path_;
+};
 
 // ray_marching_circuit<Dims, PosBits, DirBits, Steps, Variant, FracBits>: the A operator with
 // compile-time register sizes (P position bits per axis, the direction register, s steps) and
-// the scene as run-time data. Its width and a depth bound are constexpr; the bound is the
-// unpruned circuit's O(s (p^dims + d)) (Section 6): per step a coin layer of p^dims entries, a
-// shift of at most d * dims adds, two sample layers of p^dims entries; then the Path gate.
+// the scene as run-time data: walk_circuit on a static shape, with its width and a depth bound
+// as constants. The bound is the unpruned circuit's O(s (p^dims + d)) (Section 6): per step a
+// coin layer of p^dims entries, a shift of at most d * dims adds, two sample layers of p^dims
+// entries; then the Path gate.
 template <std::size_t Dims, std::size_t PosBits, std::size_t DirBits, std::size_t Steps,
           walk_variant Variant = walk_variant::faithful, std::size_t FracBits = 0>
-class ray_marching_circuit {
-  static constexpr bool dims_must_be_2_or_3 = Dims == 2 || Dims == 3;
-  static_assert(dims_must_be_2_or_3, "dims_must_be_2_or_3: ray_marching_circuit<Dims, ...> needs Dims = 2 or 3");
-  static constexpr bool steps_must_be_positive = Steps >= 1;
-  static_assert(steps_must_be_positive, "steps_must_be_positive: a walk takes at least one step");
-  static constexpr bool position_bits_must_be_positive = PosBits >= 1;
-  static_assert(position_bits_must_be_positive, "position_bits_must_be_positive: a grid has at least 2 cells per axis");
-  static constexpr bool two_d_walks_move_whole_cells = Dims == 3 || FracBits == 0;
-  static_assert(two_d_walks_move_whole_cells, "two_d_walks_move_whole_cells: 2D walks have no fractional position bits");
+class ray_marching_circuit : public walk_circuit<walk_shape<Dims, PosBits, DirBits, Steps, Variant, FracBits>> {
+  using base = walk_circuit<walk_shape<Dims, PosBits, DirBits, Steps, Variant, FracBits>>;
+  static constexpr bool widths_must_be_static = base::shape::is_static;
+  static_assert(widths_must_be_static,
+                "widths_must_be_static: ray_marching_circuit takes constants; use walk_circuit<dynamic_walk_shape<...>>");
 
  public:
   static constexpr std::size_t dims = Dims, position_bits = PosBits, direction_bits = DirBits, steps = Steps;
   static constexpr std::size_t fractional_bits = FracBits;
   static constexpr walk_variant variant = Variant;
   static constexpr std::size_t history_bits = Variant == walk_variant::history ? (Steps - 1) * DirBits : 0;
-  static constexpr std::size_t width = 1 + steps_register_bits(Steps) + Steps + (Steps - 1) + history_bits + DirBits +
-                                       Dims * (PosBits + FracBits);
+  static constexpr std::size_t width = base::layout_type::width;
   static constexpr std::size_t voxel_count = std::size_t{1} << (Dims * PosBits);
   static constexpr std::size_t depth_bound =
       Steps * (voxel_count + (history_bits ? 1 : 0) + (std::size_t{1} << DirBits) * Dims + 2 * voxel_count) +
       steps_register_bits(Steps) + Steps + DirBits + 1;
-  // The 2D coins (+-1/2 Lambertian, permutations) are real; 3D Lambertian coins may need
-  // complex phases.
-  static constexpr bool is_real = Dims == 2;
-
-  // A layout type for program::from and typed queries (registers as in make_walk_qubits).
-  struct layout_type {
-    static inline const std::vector<register_info> register_table =
-        make_walk_qubits(Dims, PosBits, FracBits, DirBits, Steps, Variant).registers;
-    static constexpr std::size_t width = ray_marching_circuit::width;
-  };
-
   ray_marching_circuit(const walk_model& m, const walk_start& start, int channel = 0,
                        pruning prune = pruning::reachable)
-      : qubits_(make_walk_qubits(Dims, PosBits, FracBits, DirBits, Steps, Variant)) {
-    if (m.dims() != Dims || m.position_bits() != PosBits || m.fractional_bits() != FracBits ||
-        m.direction_bits() > DirBits)
-      throw std::invalid_argument("ray_marching_circuit<" + std::to_string(Dims) + ", " + std::to_string(PosBits) + ", " +
-                                  std::to_string(DirBits) + ", ...>: the scene has dims " + std::to_string(m.dims()) +
-                                  ", " + std::to_string(m.position_bits()) + " position bits, " +
-                                  std::to_string(m.fractional_bits()) + " fractional bits and needs " +
-                                  std::to_string(m.direction_bits()) + " direction bits");
-    walk_options o;
-    o.steps = Steps;
-    o.variant = Variant;
-    o.prune = prune;
-    o.channel = channel;
-    tables_ = build_walk_tables(m, start, o);
-  }
-
-  const walk_tables& tables() const { return tables_; }
-  const walk_qubits& qubits() const { return qubits_; }
-  qubit_index out_qubit() const { return qubits_.out; }
-
-  template <gate_sink S>
-  void emit(S& sink) const {
-    emit_walk(sink, tables_, qubits_);
-  }
-
- private:
-  walk_qubits qubits_;
-  walk_tables tables_;
+      : base(m, start, walk_options{Steps, Variant, prune, channel}) {}
 };
 
 // ---- programs: run-time sizes, idle-qubit removal, metrics ----------------------------------
@@ -389,7 +458,8 @@ inline program remove_idle_qubits(const program& p, std::vector<qubit_index>* ke
   auto remap = [&](auto& v) {
     for (auto& q : v) q = map[q];
   };
-  for (op::any o : p.ops()) {
+  for (std::size_t i = 0; i < p.ops().size(); ++i) {
+    op::any o = p.ops()[i];
     visit_op(o, [&](auto& x) {
           using T = std::decay_t<decltype(x)>;
           for (control& c : x.controls) c.qubit = map[c.qubit];
@@ -407,6 +477,7 @@ inline program remove_idle_qubits(const program& p, std::vector<qubit_index>* ke
             remap(x.select);
           }
         });
+    r.enter_layer(p.layer_of(i));
     r.push(std::move(o));
   }
   if (kept) *kept = orig;
@@ -415,29 +486,57 @@ inline program remove_idle_qubits(const program& p, std::vector<qubit_index>* ke
 
 // A walk circuit as a program, after pruning, with where `out` ended up.
 struct walk_program {
-  program circuit;      // idle qubits removed
+  program circuit;      // idle qubits removed; each op labelled with its walk_layer's name
   walk_tables tables;
-  walk_qubits qubits;   // before idle-qubit removal
   qubit_index out = 0;  // in `circuit`
   std::size_t full_width = 0;
 };
 
-// make_walk_program(model, start, options): the A operator for run-time sizes (any scene).
+// with_dynamic_walk(dims, variant, f): f(std::type_identity<walk_circuit<dynamic_walk_shape<D, V>>>)
+// for the run-time dims and variant.
+template <class F>
+decltype(auto) with_dynamic_walk(unsigned dims, walk_variant v, F&& f) {
+  if (dims != 2 && dims != 3) throw std::invalid_argument("walk: dims must be 2 or 3, got " + std::to_string(dims));
+  const bool history = v == walk_variant::history;
+  if (dims == 2)
+    return history ? f(std::type_identity<walk_circuit<dynamic_walk_shape<2, walk_variant::history>>>{})
+                   : f(std::type_identity<walk_circuit<dynamic_walk_shape<2, walk_variant::faithful>>>{});
+  return history ? f(std::type_identity<walk_circuit<dynamic_walk_shape<3, walk_variant::history>>>{})
+                 : f(std::type_identity<walk_circuit<dynamic_walk_shape<3, walk_variant::faithful>>>{});
+}
+
+// record(c): a typed circuit lowered to a program (its layout's non-empty registers kept for
+// export, each op labelled with its layer).
+template <class C>
+program record(const C& c) {
+  program p(c.num_qubits());
+  std::vector<register_info> regs;
+  for (const register_info& r : c.layout().registers_info())
+    if (r.width > 0) regs.push_back(r);
+  p.set_registers(std::move(regs));
+  c.emit(p);
+  return p;
+}
+
+// make_walk_program(model, start, options): the A operator for run-time sizes (any scene): the
+// walk's gate templates on a dynamic layout, recorded, then (pruned levels) without idle qubits.
 template <int = 0>
 inline walk_program make_walk_program(const walk_model& m, const walk_start& start, const walk_options& o) {
-  walk_program w;
-  w.tables = build_walk_tables(m, start, o);
-  w.qubits = make_walk_qubits(m.dims(), m.position_bits(), m.fractional_bits(), m.direction_bits(), o.steps, o.variant);
-  w.full_width = w.qubits.width;
-  program p(w.qubits.width);
-  p.set_registers(w.qubits.registers);
-  emit_walk(p, w.tables, w.qubits);
-  std::vector<qubit_index> kept;
-  w.circuit = o.prune == pruning::none ? p : remove_idle_qubits(p, &kept);
-  if (o.prune == pruning::none) {
-    w.out = w.qubits.out;
-  } else {
-    const auto it = std::find(kept.begin(), kept.end(), w.qubits.out);
+  return with_dynamic_walk(m.dims(), o.variant, [&]<class C>(std::type_identity<C>) {
+    const C a(m, start, o);
+    walk_program w;
+    w.tables = a.tables();
+    w.full_width = a.num_qubits();
+    program p = record(a);
+    const qubit_index out = a.out_qubit();
+    if (o.prune == pruning::none) {
+      w.circuit = std::move(p);
+      w.out = out;
+      return w;
+    }
+    std::vector<qubit_index> kept;
+    w.circuit = remove_idle_qubits(p, &kept);
+    const auto it = std::find(kept.begin(), kept.end(), out);
     // `out` is idle only when no path term can fire; keep a qubit for it so P(out=1) = 0 reads.
     if (it == kept.end()) {
       program q(w.circuit.width() + 1);
@@ -448,8 +547,8 @@ inline walk_program make_walk_program(const walk_model& m, const walk_start& sta
     } else {
       w.out = static_cast<qubit_index>(it - kept.begin());
     }
-  }
-  return w;
+    return w;
+  });
 }
 
 // probability_out(backend, w): run w's circuit on a fresh backend and read P(out = 1).

@@ -9,7 +9,7 @@
 // where bits_for(s) = max(1, ceil(log2 s)). One more step adds 2 qubits (Le_s and rho_{s-1}),
 // plus 1 when s crosses a power of two (the steps register grows), plus D in the history variant.
 //
-// Depth of the unpruned circuit (pruning::none), derived from emit_walk's construction with
+// Depth of the unpruned circuit (pruning::none), derived from the walk's gate templates (walk/gates.hpp) with
 // qrm::circuit_metrics_of's conventions (a multiplexed gate is one layer per entry, a multi-controlled gate
 // one layer; ASAP layering):
 //   - Init: X gates on the start position's set bits (one layer, parallel) and on the start
@@ -37,9 +37,11 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "../circuit/decompose.hpp"
+#include "gates.hpp"
 #include "directions.hpp"
 #include "../circuit/metrics.hpp"
 #include "paper_scenes.hpp"
@@ -104,79 +106,31 @@ inline std::size_t unpruned_walk_depth(const walk_model& m, const walk_start& st
   return init + (3 * s - 1) * voxels + s * shift_pairs(m.directions()) + history + 1;
 }
 
-// The parts of the A operator (see walk.hpp), and the depth of each on its own.
-enum class walk_layer : unsigned char { init, coin, history, shift, sample, path };
-inline constexpr std::array<walk_layer, 6> all_walk_layers = {
-    walk_layer::init, walk_layer::coin, walk_layer::history, walk_layer::shift, walk_layer::sample, walk_layer::path};
-constexpr const char* walk_layer_name(walk_layer l) {
-  switch (l) {
-    case walk_layer::init:
-      return "init";
-    case walk_layer::coin:
-      return "coin";
-    case walk_layer::history:
-      return "history";
-    case walk_layer::shift:
-      return "shift";
-    case walk_layer::sample:
-      return "sample";
-    case walk_layer::path:
-      return "path";
-  }
-  return "?";
-}
-
+// The depth and gate count of each walk layer (walk_layer, walk/gates.hpp) on its own.
 struct walk_layer_metrics {
   std::array<std::size_t, 6> depth{};  // logical depth of the layer's ops alone, indexed by walk_layer
   std::array<std::size_t, 6> gates{};  // logical gates (qrm::circuit_metrics_of conventions)
   std::size_t operator[](walk_layer l) const { return depth[static_cast<std::size_t>(l)]; }
 };
 
-// walk_layer_of(p, op): which layer of a walk program an op belongs to, read from the roles of
-// p's registers: a multiplexed unitary is the Coin, an add the Shift, a gate on a history qubit
-// the History copy, a gate on Le or rho the Sample, on steps or out the Path, anything else
-// (position and direction preparation) Init.
+// recorded_walk_layer(p, i): the walk layer op i of p was recorded in (walk_circuit labels every
+// op it emits; the label survives idle-qubit removal, adjoint and append).
 template <int = 0>
-inline walk_layer walk_layer_of(const std::vector<role>& roles, const op::any& o) {
-  if (std::holds_alternative<op::mux_unitary_op>(o)) return walk_layer::coin;
-  if (std::holds_alternative<op::add_op>(o)) return walk_layer::shift;
-  qubit_index target = 0;
-  if (const auto* g = std::get_if<op::gate1_op>(&o))
-    target = g->target;
-  else if (const auto* x = std::get_if<op::mux1_op>(&o))
-    target = x->target;
-  else
-    return walk_layer::init;
-  switch (roles[target]) {
-    case role::history:
-      return walk_layer::history;
-    case role::emission:
-    case role::reflectance:
-      return walk_layer::sample;
-    case role::steps:
-    case role::out:
-      return walk_layer::path;
-    default:
-      return walk_layer::init;
-  }
+inline walk_layer recorded_walk_layer(const program& p, std::size_t i) {
+  const char* label = p.layer_of(i);
+  for (walk_layer l : all_walk_layers)
+    if (label != nullptr && std::string_view(label) == walk_layer_name(l)) return l;
+  throw std::invalid_argument("recorded_walk_layer: op " + std::to_string(i) +
+                              " carries no walk layer (the program was not recorded from a walk circuit)");
 }
 
-// walk_layer_roles(p): the role of each qubit of p, from its register table (ancilla if none).
-template <int = 0>
-inline std::vector<role> walk_layer_roles(const program& p) {
-  std::vector<role> roles(p.width(), role::ancilla);
-  for (const register_info& r : p.registers())
-    for (std::size_t b = 0; b < r.width; ++b) roles[r.offset + b] = r.kind;
-  return roles;
-}
-
-// walk_layer_programs(p): p's ops split by layer (indexed by walk_layer), each on p's qubits.
+// walk_layer_programs(p): p's ops split by the layer each was recorded in (indexed by walk_layer).
 template <int = 0>
 inline std::array<program, 6> walk_layer_programs(const program& p) {
-  const std::vector<role> roles = walk_layer_roles(p);
   std::array<program, 6> parts;
   for (program& part : parts) part = program(p.width());
-  for (const op::any& o : p.ops()) parts[static_cast<std::size_t>(walk_layer_of(roles, o))].push(o);
+  for (std::size_t i = 0; i < p.ops().size(); ++i)
+    parts[static_cast<std::size_t>(recorded_walk_layer(p, i))].push(p.ops()[i]);
   return parts;
 }
 
