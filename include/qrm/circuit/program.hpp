@@ -86,6 +86,7 @@ void emit_op(const op::any& o, S& sink) {
 }
 
 // Qubits an op reads or writes.
+template <int = 0>
 inline std::vector<qubit_index> op_qubits(const op::any& o) {
   std::vector<qubit_index> q;
   visit_op(o, [&](const auto& x) {
@@ -108,6 +109,7 @@ inline std::vector<qubit_index> op_qubits(const op::any& o) {
   return q;
 }
 
+template <int = 0>
 inline bool op_is_real(const op::any& o) {
   return visit_op(o, [](const auto& x) {
         using T = std::decay_t<decltype(x)>;
@@ -125,6 +127,7 @@ inline bool op_is_real(const op::any& o) {
       });
 }
 
+template <int = 0>
 inline op::any op_adjoint(const op::any& o) {
   return visit_op(o, [](const auto& x) -> op::any {
         using T = std::decay_t<decltype(x)>;
@@ -144,16 +147,18 @@ inline op::any op_adjoint(const op::any& o) {
       });
 }
 
-// program: a width and a list of ops; records from any static circuit (it is a gate_sink).
-class program {
+// program: a width and a list of ops; records from any static circuit (it is a gate_sink). A
+// class template only so that its members are compiled where used (see qrm.hpp).
+template <int = 0>
+class basic_program {
  public:
-  program() = default;
-  explicit program(std::size_t width) : width_(width) {}
+  basic_program() = default;
+  explicit basic_program(std::size_t width) : width_(width) {}
 
   // A program recorded from circuit c, keeping its layout's register table for export.
   template <class C>
-  static program from(const C& c) {
-    program p(C::width);
+  static basic_program from(const C& c) {
+    basic_program p(C::width);
     for (const register_info& r : C::layout_type::register_table) p.registers_.push_back(r);
     c.emit(p);
     return p;
@@ -171,7 +176,9 @@ class program {
   void enter_layer(const char* name) { current_layer_ = name; }
   const char* layer_of(std::size_t op) const { return op < layers_.size() ? layers_[op] : nullptr; }
   const std::vector<const char*>& layers() const { return layers_; }
-  bool is_real() const { return std::all_of(ops_.begin(), ops_.end(), op_is_real); }
+  bool is_real() const {
+    return std::all_of(ops_.begin(), ops_.end(), [](const op::any& o) { return op_is_real(o); });
+  }
 
   void push(op::any o) {
     for (qubit_index q : op_qubits(o))
@@ -181,8 +188,7 @@ class program {
     ops_.push_back(std::move(o));
     layers_.push_back(current_layer_);
   }
-  template <int = 0>
-  void append(const program& other) {
+  void append(const basic_program& other) {
     if (other.width_ > width_) width_ = other.width_;
     ops_.insert(ops_.end(), other.ops_.begin(), other.ops_.end());
     layers_.insert(layers_.end(), other.layers_.begin(), other.layers_.end());
@@ -221,8 +227,8 @@ class program {
   }
 
   // The inverse program: ops reversed, each inverted.
-  program adjoint() const {
-    program r(width_);
+  basic_program adjoint() const {
+    basic_program r(width_);
     r.registers_ = registers_;
     r.ops_.reserve(ops_.size());
     for (auto it = ops_.rbegin(); it != ops_.rend(); ++it) r.ops_.push_back(op_adjoint(*it));
@@ -238,6 +244,8 @@ class program {
   std::vector<const char*> layers_;  // one per op
   const char* current_layer_ = nullptr;
 };
+
+using program = basic_program<>;
 
 // run(backend, program): programs are checked at run time (width, and real vs complex).
 template <class B>
