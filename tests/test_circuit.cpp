@@ -141,3 +141,46 @@ TEST_CASE("run-time errors name the problem") {
   qrm::program wide(30);
   CHECK(error_of([&] { qrm::run(s, wide); }).find("needs 30 qubits but the backend has 4") != std::string::npos);
 }
+
+namespace {
+// Registers whose width a scene file decides: the same names and roles, width dynamic_width.
+using dyn_x = qrm::position<"x", qrm::dynamic_width>;
+using dyn_dir = qrm::direction<qrm::dynamic_width>;
+using DL = qrm::layout<out, dyn_dir, dyn_x>;
+using SL = qrm::layout<out, dir, x>;
+
+// What needs a constant width refuses a dynamic register (requires !requires style).
+static_assert(qrm::dynamic_register<dyn_x> && qrm::static_register<x>);
+static_assert(!qrm::selector<dyn_x>);         // no bit<>, slice<> or gate template over it
+template <class R>
+concept has_width = requires { R::width; };
+template <class L>
+concept takes_circuits = requires { qrm::make_circuit<L>(qrm::x<out>{}); };
+static_assert(!has_width<dyn_x> && has_width<x>);  // no width member to misuse
+static_assert(!qrm::static_layout<DL> && qrm::static_layout<SL>);
+static_assert(!takes_circuits<DL> && takes_circuits<SL>);  // circuit<> needs constant offsets
+static_assert(SL{}.offset_of<x>() == SL::offset<x>);                // one accessor for both kinds
+}  // namespace
+
+TEST_CASE("a layout with dynamic widths places registers like the static one and checks the same rules") {
+  const DL dl(3, 3);  // dir, x
+  CHECK(dl.num_qubits() == SL::width);
+  CHECK(dl.offset_of<dyn_dir>() == SL::offset<dir>);
+  CHECK(dl.offset_of<dyn_x>() == SL::offset<x>);
+  CHECK(dl.width_of<dyn_x>() == 3);
+  CHECK(dl.qubits_of<dyn_x>() == std::vector<qrm::qubit_index>{4, 5, 6});
+  CHECK(dl.registers_info()[2].name == "x");
+  // Different widths move what follows.
+  const DL wide(5, 7);
+  CHECK(wide.offset_of<dyn_x>() == 6);
+  CHECK(wide.num_qubits() == 13);
+  // The rule a static register states at compile time, checked at construction, by name.
+  CHECK(error_of([] { DL(3, 65); }) ==
+        "register_width_must_fit_64_bits: register 'x' is 65 qubits wide; register values are 64-bit numbers");
+  CHECK(error_of([&] { (void)dl.qubit_of<dyn_x>(3); }) ==
+        "bit_index_must_be_within_register: bit 3 of register 'x', which has 3 qubits");
+  // with_widths: every register's width; a static register must have its declared width.
+  using ML = qrm::layout<out, dir, dyn_x>;
+  CHECK(ML::with_widths({1, 3, 4}).offset_of<dyn_x>() == 4);
+  CHECK(error_of([] { ML::with_widths({1, 2, 4}); }) == "register 'dir' has 3 qubits in the layout type, but 2 are needed");
+}

@@ -288,8 +288,8 @@ inline void check_select(std::uint64_t select, std::size_t m, const char* what) 
 }  // namespace detail
 
 // mux_ry<Target, Select, Ctrls...>{{value, theta}...}: Ry(theta) on Target where the Select qubits
-// read `value`; values without an entry get the identity (the paper's Sample layer: one entry
-// per voxel with a non-zero value).
+// read `value`; values without an entry get the identity. (The walk's Sample layer, walk_sample
+// in walk/gates.hpp, lowers to the same op with a voxel-index select whose width a scene decides.)
 template <class Target, class Select, class... Ctrls>
 struct mux_ry : detail::block_gate_base<true, detail::pow2_saturated(detail::selector_traits<Select>::count),
                                         detail::type_list<Target, Select>, Ctrls...> {
@@ -327,8 +327,8 @@ struct mux_ry : detail::block_gate_base<true, detail::pow2_saturated(detail::sel
 };
 
 // basic_mux_unitary<Real, Targets, Select, Ctrls...>: where Select reads `value`, apply
-// matrices[entry.matrix] to Targets (the paper's Coin layer: one entry per non-air voxel, the
-// matrices shared between voxels of the same kind).
+// matrices[entry.matrix] to Targets; the matrices may be shared between values. (The walk's Coin
+// layer, walk_coin in walk/gates.hpp, lowers to the same op, selected by the voxel index.)
 template <bool Real, class Targets, class Select, class... Ctrls>
 struct basic_mux_unitary
     : detail::block_gate_base<Real, detail::pow2_saturated(detail::selector_traits<Select>::count),
