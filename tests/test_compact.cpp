@@ -561,7 +561,7 @@ TEST_CASE("same ops, same bits: a round trip through a dense vector midway chang
     if (i == 40) {
       const auto d = b.to_dense();
       b = qrm::compact_state<cd>(10);
-      b.from_dense(d);
+      b.set_amplitudes(d);
     }
   }
   REQUIRE(a.nonzeros() == b.nonzeros());
@@ -672,7 +672,7 @@ TEST_CASE("bad input is refused with an error naming the problem and the value")
   qrm::wide_label<2> high;
   high.set(100);
   CHECK(contains(error_of([&] { (void)w.amplitude(high); }), "does not fit 100 qubits"));
-  CHECK(contains(error_of([&] { s.from_dense(std::vector<double>(15)); }), "got 15 amplitudes, need 2^4"));
+  CHECK(contains(error_of([&] { s.set_amplitudes(std::vector<double>(15)); }), "got 15 amplitudes, need 2^4"));
   CHECK(contains(error_of([&] { (void)w.to_dense(); }), "100 qubits are too many"));
   CHECK(contains(error_of([&] { s.prune(1.0); }), "must be in [0, 1), got 1"));
   CHECK(contains(error_of([&] { s.set_prune_threshold(-0.1); }), "got -0.1"));
@@ -683,4 +683,52 @@ TEST_CASE("bad input is refused with an error naming the problem and the value")
   // Nothing above changed the state.
   CHECK(s.nonzeros() == 1);
   CHECK(s.amplitude(0) == 1.0);
+}
+
+TEST_CASE("every argument check gives the dense backend's message, word for word") {
+  // One list of bad calls, run on both backends; only the class name in the real-amplitude rule
+  // differs.
+  auto messages = [](auto& b) {
+    const std::vector<control> twice = {{1, true}, {1, false}}, far = {{7, true}}, on_target = {{0, true}};
+    const std::vector<qubit_index> dup = {1, 1}, two = {0, 1}, sel = {1, 2}, t0 = {0};
+    const std::vector<qrm::mux1_entry> big = {{4, qrm::gate::x()}}, again = {{2, qrm::gate::x()}, {2, qrm::gate::h()}};
+    const std::vector<qrm::mux1_entry> complex_entry = {{1, qrm::gate::phase(0.2)}};
+    const std::vector<qrm::dense_matrix> ms = {qrm::dense_matrix::identity(2)}, ms4 = {qrm::dense_matrix::identity(4)};
+    const std::vector<qrm::mux_unitary_entry> bad_matrix = {{0, 1}}, ok = {{0, 0}};
+    std::vector<qrm::dense_matrix> phase = {qrm::dense_matrix::identity(2)};
+    phase[0](1, 1) = cd(0, 1);
+    return std::vector<std::string>{
+        error_of([&] { b.apply_gate1(qrm::gate::h(), 4, {}); }),
+        error_of([&] { b.apply_gate1(qrm::gate::h(), 0, twice); }),
+        error_of([&] { b.apply_gate1(qrm::gate::h(), 0, far); }),
+        error_of([&] { b.apply_gate1(qrm::gate::h(), 0, on_target); }),
+        error_of([&] { b.apply_gate1(qrm::gate::phase(0.3), 0, {}); }),
+        error_of([&] { b.apply_unitary(qrm::dense_matrix::identity(2), two, {}); }),
+        error_of([&] { b.apply_unitary(qrm::dense_matrix::identity(4), dup, {}); }),
+        error_of([&] { b.apply_add(1, dup, {}); }),
+        error_of([&] { b.apply_add(1, t0, on_target); }),
+        error_of([&] { b.apply_mux1(big, 0, sel, {}); }),
+        error_of([&] { b.apply_mux1(again, 0, sel, {}); }),
+        error_of([&] { b.apply_mux1(big, 1, sel, {}); }),
+        error_of([&] { b.apply_mux1(complex_entry, 0, sel, {}); }),
+        error_of([&] { b.apply_mux_unitary(ms, bad_matrix, t0, sel, {}); }),
+        error_of([&] { b.apply_mux_unitary(ms4, ok, t0, sel, {}); }),
+        error_of([&] { b.apply_mux_unitary(ms, ok, t0, sel, far); }),
+        error_of([&] { b.apply_mux_unitary(phase, ok, t0, sel, {}); }),
+        error_of([&] { (void)b.probability(twice); }),
+        error_of([&] { (void)b.distribution(dup); }),
+    };
+  };
+  qrm::state_vector<double> d(4);
+  qrm::compact_state<double> c(4);
+  const auto from_dense = messages(d), from_compact = messages(c);
+  REQUIRE(from_dense.size() == from_compact.size());
+  for (std::size_t i = 0; i < from_dense.size(); ++i) {
+    INFO("call " << i << ": " << from_dense[i]);
+    CHECK(from_dense[i] != "(no error)");
+    std::string expected = from_dense[i];
+    const auto at = expected.find("state_vector<");
+    if (at != std::string::npos) expected.replace(at, 12, "compact_state");
+    CHECK(from_compact[i] == expected);
+  }
 }

@@ -88,20 +88,22 @@ TEST_CASE("exact light maps are bit-identical for 1, 2 and 3 threads, on each ba
   for (const qrm::scene& sc : {qrm::paper_4x4(), qrm::paper_8x8()}) {
     const qrm::walk_model m(sc, qrm::king_2d());
     for (const bool dense : {true, false}) {
-      const qrm::probability_runner run =
-          dense ? qrm::probability_runner(qrm::dense_probability<>) : qrm::probability_runner(qrm::compact_probability<>);
+      const auto run = [&](const qrm::lightmap_options& lo) {
+        return dense ? qrm::exact_lightmap<qrm::dense_backend>(m, lo)
+                     : qrm::exact_lightmap<qrm::compact_backend>(m, lo);
+      };
       qrm::lightmap_options o;
       o.history = !(dense && sc.size() == 8);
       INFO(sc.name() << (dense ? " dense" : " compact"));
       o.threads = 1;
-      const auto one = qrm::exact_lightmap(m, o, run);
+      const auto one = run(o);
       o.threads = 2;
-      const auto two = qrm::exact_lightmap(m, o, run);
+      const auto two = run(o);
       o.threads = 3;
-      const auto three = qrm::exact_lightmap(m, o, run);
+      const auto three = run(o);
       CHECK(same_maps(one, two));
       CHECK(same_maps(one, three));
-      CHECK(same_maps(one, qrm::exact_lightmap(m, o, run)));  // and run to run
+      CHECK(same_maps(one, run(o)));  // and run to run
     }
   }
 }

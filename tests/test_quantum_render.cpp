@@ -29,7 +29,7 @@ TEST_CASE("simulated and analytic Grover give the same outcomes on the paper 8x8
     o.channel = static_cast<int>(cell % 3);
     const auto w = qrm::make_walk_program(m, m.light_map_start(qrm::paper_8x8().coords(cell)), o);
     const qrm::estimation_problem problem{w.circuit, {qrm::control{w.out, true}}};
-    const double a = qrm::compact_probability(w);
+    const double a = qrm::walk_probability<qrm::compact_backend>(w);
     for (qrm::estimator_kind k : {qrm::estimator_kind::fae, qrm::estimator_kind::iqae, qrm::estimator_kind::mlae,
                                   qrm::estimator_kind::qcoin}) {
       qrm::estimator_settings s;
@@ -59,7 +59,7 @@ TEST_CASE("the estimated light map: exact values are the walk's, FAE intervals h
   const auto cells = qrm::render::estimate_lightmap(m, o);
   qrm::lightmap_options lo;
   lo.history = false;
-  const auto exact = qrm::exact_lightmap(m, lo, qrm::compact_probability<>);
+  const auto exact = qrm::exact_lightmap<qrm::compact_backend>(m, lo);
   REQUIRE(cells.size() == exact.size());
   std::size_t inside = 0;
   for (std::size_t i = 0; i < cells.size(); ++i) {
@@ -93,8 +93,8 @@ TEST_CASE("the 3D quantum image is each pixel's walk circuit, independent of thr
     wo.steps = 3;
     const auto w = qrm::make_walk_program(m, p.start, wo);
     if (w.circuit.width() > 24) continue;
-    const double dense = qrm::dense_probability(w);
-    CHECK(qrm::compact_probability(w) == doctest::Approx(dense).epsilon(1e-12));
+    const double dense = qrm::walk_probability<qrm::dense_backend>(w);
+    CHECK(qrm::walk_probability<qrm::compact_backend>(w) == doctest::Approx(dense).epsilon(1e-12));
     ++compared;
   }
   o.threads = 1;

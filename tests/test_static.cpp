@@ -2,6 +2,8 @@
 // the named rules (checked positively with static_assert, negatively with `requires !requires`).
 #include <doctest/doctest.h>
 
+#include <utility>
+
 #include <qrm/qrm.hpp>
 
 namespace {
@@ -99,6 +101,93 @@ template <class B, class C>
 concept runs_on = requires(B& b, const C& c) { requires qrm::can_run<C, B>; };
 static_assert(!runs_on<qrm::state_vector<float>, qrm::circuit<walk_layout, qrm::y<out>>>);
 static_assert(runs_on<qrm::state_vector<std::complex<double>>, qrm::circuit<walk_layout, qrm::y<out>>>);
+
+// ---- backends -------------------------------------------------------------------------------
+static_assert(qrm::backend<qrm::state_vector<double>> && qrm::backend<qrm::state_vector<float>> &&
+              qrm::backend<qrm::state_vector<std::complex<double>>> &&
+              qrm::backend<qrm::state_vector<std::complex<float>>>);
+static_assert(qrm::backend<qrm::compact_state<double>> && qrm::backend<qrm::compact_state<float>> &&
+              qrm::backend<qrm::compact_state<std::complex<double>>> &&
+              qrm::backend<qrm::compact_state<std::complex<float>>> &&
+              qrm::backend<qrm::compact_state<std::complex<double>, qrm::wide_label<2>>> &&
+              qrm::backend<qrm::compact_state<float, qrm::wide_label<3>>>);
+static_assert(qrm::backend_family<qrm::dense_backend> && qrm::backend_family<qrm::compact_backend>);
+static_assert(qrm::dense_backend::name == "dense" && qrm::compact_backend::name == "compact");
+
+// A backend with every operation except the one numbered Missing (-1: none missing).
+template <int Missing>
+struct partial_backend {
+  using scalar_type = double;
+  using real_type = double;
+  static constexpr bool is_complex = false;
+  explicit partial_backend(std::size_t) {}
+  void apply_gate1(const qrm::gate1&, qrm::qubit_index, std::span<const qrm::control>) requires(Missing != 0) {}
+  void apply_unitary(const qrm::dense_matrix&, std::span<const qrm::qubit_index>, std::span<const qrm::control>)
+    requires(Missing != 1) {}
+  void apply_add(std::int64_t, std::span<const qrm::qubit_index>, std::span<const qrm::control>)
+    requires(Missing != 2) {}
+  void apply_mux1(std::span<const qrm::mux1_entry>, qrm::qubit_index, std::span<const qrm::qubit_index>,
+                  std::span<const qrm::control>) requires(Missing != 3) {}
+  void apply_mux_unitary(std::span<const qrm::dense_matrix>, std::span<const qrm::mux_unitary_entry>,
+                         std::span<const qrm::qubit_index>, std::span<const qrm::qubit_index>,
+                         std::span<const qrm::control>) requires(Missing != 4) {}
+  void set_basis_state(std::uint64_t) requires(Missing != 5) {}
+  void set_amplitudes(std::span<const double>) requires(Missing != 6) {}
+  std::size_t num_qubits() const requires(Missing != 7) { return 0; }
+  double amplitude(std::uint64_t) const requires(Missing != 8) { return 0; }
+  std::vector<double> to_dense() const requires(Missing != 9) { return {}; }
+  double norm_squared() const requires(Missing != 10) { return 0; }
+  double probability(std::span<const qrm::control>) const requires(Missing != 11) { return 0; }
+  std::vector<double> distribution(std::span<const qrm::qubit_index>) const requires(Missing != 12) { return {}; }
+};
+static_assert(qrm::backend<partial_backend<-1>>);
+// Each missing operation is caught, by the part of the concept that names it.
+template <int... K>
+constexpr bool none_is_a_backend(std::integer_sequence<int, K...>) {
+  return (... && !qrm::backend<partial_backend<K>>);
+}
+static_assert(none_is_a_backend(std::make_integer_sequence<int, 13>{}));
+static_assert(!qrm::gate_sink<partial_backend<3>> && qrm::state_loader<partial_backend<3>> &&
+              qrm::state_reader<partial_backend<3>>);
+static_assert(qrm::gate_sink<partial_backend<6>> && !qrm::state_loader<partial_backend<6>> &&
+              qrm::state_reader<partial_backend<6>>);
+static_assert(qrm::gate_sink<partial_backend<9>> && qrm::state_loader<partial_backend<9>> &&
+              !qrm::state_reader<partial_backend<9>>);
+// Not backends either: a gate_sink that cannot be read (a recorder), integer amplitudes, an int.
+static_assert(qrm::gate_sink<qrm::program> && !qrm::backend<qrm::program>);
+struct integer_backend : partial_backend<-1> {
+  using scalar_type = int;
+  using partial_backend::partial_backend;
+};
+static_assert(!qrm::amplitude_store<integer_backend> && !qrm::backend<integer_backend>);
+template <class B>
+concept backend_type = requires { requires qrm::backend<B>; };
+static_assert(!backend_type<int> && backend_type<qrm::compact_state<double>>);
+// A family needs a name, visit and make, and backends for real and complex amplitudes.
+struct unnamed_family {
+  template <class S>
+  using state = qrm::state_vector<S>;
+};
+static_assert(!qrm::backend_family<unnamed_family>);
+struct family_without_visit {
+  static constexpr std::string_view name = "no visit";
+  template <class S>
+  using state = qrm::compact_state<S>;
+  template <class B>
+  static B make(std::size_t n) {
+    return B(n);
+  }
+};
+static_assert(!qrm::backend_family<family_without_visit>);
+struct recorder_family : family_without_visit {
+  template <class S>
+  using state = qrm::program;
+  template <class F>
+  static int visit(std::size_t, bool, F&&) {
+    return 0;
+  }
+};
+static_assert(!qrm::backend_family<recorder_family>);
 
 }  // namespace
 

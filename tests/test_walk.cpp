@@ -15,7 +15,8 @@
 
 namespace {
 
-double run_dense(const qrm::walk_program& w) { return qrm::dense_probability(w); }
+double run_dense(const qrm::walk_program& w) { return qrm::walk_probability<qrm::dense_backend>(w); }
+double run_compact(const qrm::walk_program& w) { return qrm::walk_probability<qrm::compact_backend>(w); }
 
 }  // namespace
 
@@ -43,15 +44,15 @@ TEST_CASE("history circuit equals the classical path sum; dense and compact agre
         const double classical = qrm::path_sum(m, start, 3, c) / 3.0;
         o.variant = qrm::walk_variant::history;
         const auto hist = qrm::make_walk_program(m, start, o);
-        const double history = qrm::compact_probability(hist);
+        const double history = run_compact(hist);
         worst_history = std::max(worst_history, std::abs(history - classical));
         o.variant = qrm::walk_variant::faithful;
         const auto faithful_program = qrm::make_walk_program(m, start, o);
         const double faithful = run_dense(faithful_program);
-        worst_backends = std::max(worst_backends, std::abs(qrm::compact_probability(faithful_program) - faithful));
+        worst_backends = std::max(worst_backends, std::abs(run_compact(faithful_program) - faithful));
         for (qrm::pruning p : {qrm::pruning::none, qrm::pruning::scene}) {
           o.prune = p;
-          CHECK(std::abs(qrm::compact_probability(qrm::make_walk_program(m, start, o)) - faithful) < 1e-12);
+          CHECK(std::abs(run_compact(qrm::make_walk_program(m, start, o)) - faithful) < 1e-12);
         }
         if (classical > 0) max_rel_interference = std::max(max_rel_interference, std::abs(faithful - classical) / classical);
       }
@@ -179,7 +180,7 @@ TEST_CASE("emission above 1 is scaled into the circuit and back") {
     o.variant = qrm::walk_variant::history;
     const auto w = qrm::make_walk_program(m, start, o);
     CHECK(w.tables.emission_scale == 4.0);
-    const double radiance = qrm::dense_probability(w) * 3.0 * w.tables.emission_scale;
+    const double radiance = run_dense(w) * 3.0 * w.tables.emission_scale;
     CHECK(radiance == doctest::Approx(qrm::path_sum(m, start, 3, 0)).epsilon(1e-12));
   }
 }
@@ -259,7 +260,7 @@ TEST_CASE("a 3D walk (golden spiral, fixed-point positions) matches its classica
         o.variant = qrm::walk_variant::history;
         const auto w = qrm::make_walk_program(m, start, o);
         const double classical = qrm::path_sum(m, start, 2, c) / (2.0 * sc.emission_scale(c));
-        CHECK(std::abs(qrm::compact_probability(w) - classical) < 1e-12);
+        CHECK(std::abs(run_compact(w) - classical) < 1e-12);
       }
     }
   }

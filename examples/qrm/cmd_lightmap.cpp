@@ -23,12 +23,11 @@ int cmd_lightmap(args& a) {
   const std::string backend = a.str("backend", "compact");
   const std::string format = a.str("format", "csv");
   if (format != "csv" && format != "json") throw usage_error("--format must be csv or json, got '" + format + "'");
-  qrm::probability_runner run;
-  if (backend == "dense") run = qrm::dense_probability<>;
-  else if (backend == "compact") run = qrm::compact_probability<>;
-  else throw usage_error("--backend must be dense or compact, got '" + backend + "'");
+  if (backend != qrm::dense_backend::name && backend != qrm::compact_backend::name)
+    throw usage_error("--backend must be dense or compact, got '" + backend + "'");
   const qrm::walk_model model(sc, qrm::king_2d());
-  const auto cells = qrm::exact_lightmap(model, o, run);
+  const auto cells = backend == qrm::dense_backend::name ? qrm::exact_lightmap<qrm::dense_backend>(model, o)
+                                                         : qrm::exact_lightmap<qrm::compact_backend>(model, o);
   if (format == "csv") {
     std::printf("scene,x,y,channel,faithful,history,classical\n");
     for (const auto& c : cells)

@@ -2,7 +2,7 @@
 // name; a layer includes only layers listed before it (io needs none of them):
 //   support.hpp     random numbers, parallel jobs
 //   circuit.hpp     typed registers, layouts, gate templates, circuits, programs, QASM
-//   backends.hpp    dense and compact simulators, measurement
+//   backends.hpp    the backend concept, dense and compact simulators, measurement
 //   estimation.hpp  amplitude estimators
 //   walk.hpp        quantum ray marching: scenes, coins, the walk circuit, classical references
 //   render.hpp      3D images: voxelizer, camera, classical and quantum renderers

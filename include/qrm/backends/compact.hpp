@@ -3,7 +3,8 @@
 //
 // compact_state<S, L> implements the same gate_sink as state_vector<S> with the same semantics,
 // checks and messages. S is float, double, std::complex<float> or std::complex<double>; L is
-// std::uint64_t (up to 64 qubits) or qrm::wide_label<Words> (64 * Words qubits).
+// std::uint64_t (up to 64 qubits) or qrm::wide_label<Words> (64 * Words qubits); compact_backend
+// is the family (backend.hpp) that picks among them.
 //
 // Storage: one vector of entries sorted by label, plus a second vector the next state is written
 // into. Why sorted vectors rather than a hash map: every operation here is a function of groups
@@ -44,12 +45,16 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
+#include "backend.hpp"
 #include "detail/compact_kernels.hpp"
 #include "detail/labels.hpp"
 #include "detail/scalar.hpp"
+#include "detail/validate.hpp"
 #include "../circuit/ops.hpp"
 
 namespace qrm {
@@ -132,9 +137,9 @@ class compact_state {
     return d;
   }
   // Loads 2^n dense amplitudes (zeros are not stored).
-  void from_dense(std::span<const Scalar> amplitudes) {
+  void set_amplitudes(std::span<const Scalar> amplitudes) {
     if (n_ > 62 || amplitudes.size() != (std::size_t{1} << n_))
-      throw std::invalid_argument("compact_state::from_dense: got " + std::to_string(amplitudes.size()) +
+      throw std::invalid_argument("compact_state::set_amplitudes: got " + std::to_string(amplitudes.size()) +
                                   " amplitudes, need 2^" + std::to_string(n_));
     std::vector<entry> v;
     std::size_t count = 0;
@@ -198,9 +203,7 @@ class compact_state {
   // ---- gate_sink --------------------------------------------------------------------------------
 
   void apply_gate1(const gate1& g, qubit_index target, std::span<const control> controls) {
-    const auto cond = detail::make_label_condition<Label>(controls, n_, "apply_gate1");
-    detail::make_label_operands<Label>(std::span<const qubit_index>(&target, 1), n_, cond.mask, "apply_gate1");
-    check_real(g.is_real(), "apply_gate1");
+    const auto cond = checks().gate1(g, target, controls).cond;
     if (g.is_identity()) return;
     const bool is_x =
         g.m[0][0] == complex{} && g.m[1][1] == complex{} && g.m[0][1] == complex{1.0} && g.m[1][0] == complex{1.0};
@@ -220,18 +223,14 @@ class compact_state {
   }
 
   void apply_unitary(const dense_matrix& m, std::span<const qubit_index> targets, std::span<const control> controls) {
-    const auto cond = detail::make_label_condition<Label>(controls, n_, "apply_unitary");
-    detail::make_label_operands<Label>(targets, n_, cond.mask, "apply_unitary");
-    detail::check_matrix_dim(m, targets.size(), "apply_unitary");
-    check_real(m.is_real(), "apply_unitary");
+    const auto cond = checks().unitary(m, targets, controls).cond;
     const std::vector<detail::compiled_matrix> ms = {detail::compiled_matrix(m)};
     const detail::select_lookup lookup({}, {{0, 0}});
     guarded([&] { apply_matrices(targets, cond, lookup, ms); });
   }
 
   void apply_add(std::int64_t constant, std::span<const qubit_index> bits, std::span<const control> controls) {
-    const auto cond = detail::make_label_condition<Label>(controls, n_, "apply_add");
-    detail::make_label_operands<Label>(bits, n_, cond.mask, "apply_add");
+    const auto cond = checks().add(bits, controls).cond;
     if (bits.empty()) return;
     if (bits.size() > 64)
       throw std::invalid_argument("apply_add: a register of " + std::to_string(bits.size()) +
@@ -244,11 +243,7 @@ class compact_state {
 
   void apply_mux1(std::span<const mux1_entry> entries, qubit_index target, std::span<const qubit_index> select,
                   std::span<const control> controls) {
-    const auto cond = detail::make_label_condition<Label>(controls, n_, "apply_mux1");
-    const Label sm = detail::make_label_operands<Label>(select, n_, cond.mask, "apply_mux1");
-    detail::make_label_operands<Label>(std::span<const qubit_index>(&target, 1), n_, cond.mask | sm, "apply_mux1");
-    detail::check_select_entries(entries, select.size(), "apply_mux1");
-    for (const auto& e : entries) check_real(e.gate.is_real(), "apply_mux1");
+    const auto cond = checks().mux1(entries, target, select, controls).cond;
     // Identity entries act like missing ones.
     std::vector<std::pair<std::uint64_t, std::int32_t>> ids;
     bool all_diagonal = true;
@@ -274,18 +269,7 @@ class compact_state {
   void apply_mux_unitary(std::span<const dense_matrix> matrices, std::span<const mux_unitary_entry> entries,
                          std::span<const qubit_index> targets, std::span<const qubit_index> select,
                          std::span<const control> controls) {
-    const auto cond = detail::make_label_condition<Label>(controls, n_, "apply_mux_unitary");
-    const Label sm = detail::make_label_operands<Label>(select, n_, cond.mask, "apply_mux_unitary");
-    detail::make_label_operands<Label>(targets, n_, cond.mask | sm, "apply_mux_unitary");
-    detail::check_select_entries(entries, select.size(), "apply_mux_unitary");
-    for (const auto& m : matrices) {
-      detail::check_matrix_dim(m, targets.size(), "apply_mux_unitary");
-      check_real(m.is_real(), "apply_mux_unitary");
-    }
-    for (const auto& e : entries)
-      if (e.matrix >= matrices.size())
-        throw std::invalid_argument("apply_mux_unitary: entry names matrix " + std::to_string(e.matrix) + " of " +
-                                    std::to_string(matrices.size()));
+    const auto cond = checks().mux_unitary(matrices, entries, targets, select, controls).cond;
     std::vector<detail::compiled_matrix> ms;
     for (const auto& m : matrices) ms.emplace_back(m);
     std::vector<std::pair<std::uint64_t, std::int32_t>> ids;
@@ -305,7 +289,7 @@ class compact_state {
   }
   // Probability that every control holds.
   double probability(std::span<const control> condition) const {
-    const auto cond = detail::make_label_condition<Label>(condition, n_, "probability");
+    const auto cond = checks().probability(condition);
     double acc = 0;
     for (const entry& e : cur_)
       if ((e.label & cond.mask) == cond.value) add_prob(acc, e.amp);
@@ -313,8 +297,7 @@ class compact_state {
   }
   // Probabilities of every value of the register `bits` (2^k numbers).
   std::vector<double> distribution(std::span<const qubit_index> bits) const {
-    detail::make_label_operands<Label>(bits, n_, Label{}, "distribution");
-    if (bits.size() > 26) throw std::invalid_argument("distribution: at most 26 qubits per register");
+    checks().distribution(bits);
     std::vector<double> p(std::size_t{1} << bits.size(), 0.0);
     for (const entry& e : cur_) {
       std::size_t v = 0;
@@ -475,13 +458,7 @@ class compact_state {
 
   // ---- checks -------------------------------------------------------------------------------------
 
-  void check_real(bool real, const char* what) const {
-    if constexpr (!is_complex) {
-      if (!real)
-        throw std::invalid_argument(std::string(what) + ": complex_gate_needs_complex_backend: this compact_state<" +
-                                    detail::scalar_name<Scalar>() + "> stores real amplitudes");
-    }
-  }
+  detail::op_checks<Label, Scalar> checks() const { return {n_, "compact_state"}; }
   void check_label(const Label& label, const char* what) const {
     if (!T::is_zero(label & ~valid_))
       throw std::out_of_range(std::string(what) + ": label " + T::to_string(label) + " does not fit " +
@@ -896,6 +873,24 @@ class compact_state {
   std::vector<double> acc_re_, acc_im_;
   std::vector<char> seen_;
   std::vector<std::uint32_t> touched_;
+};
+
+// compact_backend: the compact backend as a type (qrm::backend_family): real or complex double
+// with 64-bit labels, and complex double with 128-bit labels past 64 qubits.
+struct compact_backend {
+  static constexpr std::string_view name = "compact";
+  template <class S>
+  using state = compact_state<S>;
+  template <class F>
+  static decltype(auto) visit(std::size_t width, bool real, F&& f) {
+    if (width > 64) return f(std::type_identity<compact_state<std::complex<double>, wide_label<2>>>{});
+    if (real) return f(std::type_identity<compact_state<double>>{});
+    return f(std::type_identity<compact_state<std::complex<double>>>{});
+  }
+  template <class B>
+  static B make(std::size_t n) {
+    return B(n);
+  }
 };
 
 }  // namespace qrm

@@ -3,6 +3,7 @@
 // state_vector<S> holds all 2^n amplitudes. S is std::complex<double> (default),
 // std::complex<float>, or real double / float for circuits whose gates are all real (the
 // paper's circuits are: X, Ry and the +-1/2 coins), which halves memory and arithmetic.
+// dense_backend is the family (backend.hpp) that picks among them.
 #pragma once
 
 #include <algorithm>
@@ -14,13 +15,16 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 #if __has_include(<unistd.h>)
 #include <unistd.h>
 #endif
 
+#include "backend.hpp"
 #include "detail/aligned_allocator.hpp"
 #include "detail/bits.hpp"
 #include "detail/dense_kernels.hpp"
@@ -64,9 +68,7 @@ inline std::uint64_t physical_memory_bytes() {
 // state_vector<S>: 2^n amplitudes, starting in |0...0>.
 template <class Scalar = std::complex<double>>
 class state_vector {
-  static constexpr bool scalar_must_be_float_double_or_complex =
-      std::is_same_v<Scalar, double> || std::is_same_v<Scalar, float> ||
-      std::is_same_v<Scalar, std::complex<double>> || std::is_same_v<Scalar, std::complex<float>>;
+  static constexpr bool scalar_must_be_float_double_or_complex = detail::is_backend_scalar<Scalar>;
   static_assert(scalar_must_be_float_double_or_complex,
                 "scalar_must_be_float_double_or_complex: state_vector<S> needs S = float, double, "
                 "std::complex<float> or std::complex<double>");
@@ -127,53 +129,35 @@ class state_vector {
                                   std::to_string(amps_.size()));
     std::copy(a.begin(), a.end(), amps_.begin());
   }
+  // A copy of the 2^n amplitudes (amplitudes() is the view without a copy).
+  std::vector<Scalar> to_dense() const { return std::vector<Scalar>(amps_.begin(), amps_.end()); }
 
   // ---- gate_sink --------------------------------------------------------------------------
 
   void apply_gate1(const gate1& g, qubit_index target, std::span<const control> controls) {
-    const auto cm = detail::make_control_mask(controls, n_, "apply_gate1");
-    detail::make_operand_mask(std::span<const qubit_index>(&target, 1), n_, cm.mask, "apply_gate1");
-    check_real(g.is_real(), "apply_gate1");
-    detail::kernel_gate1(amps_.data(), n_, g, target, cm.mask, cm.value, ex_);
+    const auto op = checks().gate1(g, target, controls);
+    detail::kernel_gate1(amps_.data(), n_, g, target, op.cond.mask, op.cond.value, ex_);
   }
   void apply_unitary(const dense_matrix& m, std::span<const qubit_index> targets, std::span<const control> controls) {
-    const auto cm = detail::make_control_mask(controls, n_, "apply_unitary");
-    const std::uint64_t tm = detail::make_operand_mask(targets, n_, cm.mask, "apply_unitary");
-    detail::check_matrix_dim(m, targets.size(), "apply_unitary");
-    check_real(m.is_real(), "apply_unitary");
-    detail::kernel_unitary(amps_.data(), n_, m, targets, tm, cm.mask, cm.value, ex_);
+    const auto op = checks().unitary(m, targets, controls);
+    detail::kernel_unitary(amps_.data(), n_, m, targets, op.targets, op.cond.mask, op.cond.value, ex_);
   }
   void apply_add(std::int64_t constant, std::span<const qubit_index> bits, std::span<const control> controls) {
-    const auto cm = detail::make_control_mask(controls, n_, "apply_add");
-    const std::uint64_t rm = detail::make_operand_mask(bits, n_, cm.mask, "apply_add");
+    const auto op = checks().add(bits, controls);
     if (bits.empty()) return;
-    detail::kernel_add(amps_.data(), n_, constant, bits, rm, cm.mask, cm.value, ex_);
+    detail::kernel_add(amps_.data(), n_, constant, bits, op.targets, op.cond.mask, op.cond.value, ex_);
   }
   void apply_mux1(std::span<const mux1_entry> entries, qubit_index target, std::span<const qubit_index> select,
                   std::span<const control> controls) {
-    const auto cm = detail::make_control_mask(controls, n_, "apply_mux1");
-    const std::uint64_t sm = detail::make_operand_mask(select, n_, cm.mask, "apply_mux1");
-    detail::make_operand_mask(std::span<const qubit_index>(&target, 1), n_, cm.mask | sm, "apply_mux1");
-    detail::check_select_entries(entries, select.size(), "apply_mux1");
-    for (const auto& e : entries) check_real(e.gate.is_real(), "apply_mux1");
-    detail::kernel_mux1(amps_.data(), n_, entries, target, select, sm, cm.mask, cm.value, ex_);
+    const auto op = checks().mux1(entries, target, select, controls);
+    detail::kernel_mux1(amps_.data(), n_, entries, target, select, op.select, op.cond.mask, op.cond.value, ex_);
   }
   void apply_mux_unitary(std::span<const dense_matrix> matrices, std::span<const mux_unitary_entry> entries,
                          std::span<const qubit_index> targets, std::span<const qubit_index> select,
                          std::span<const control> controls) {
-    const auto cm = detail::make_control_mask(controls, n_, "apply_mux_unitary");
-    const std::uint64_t sm = detail::make_operand_mask(select, n_, cm.mask, "apply_mux_unitary");
-    const std::uint64_t tm = detail::make_operand_mask(targets, n_, cm.mask | sm, "apply_mux_unitary");
-    detail::check_select_entries(entries, select.size(), "apply_mux_unitary");
-    for (const auto& m : matrices) {
-      detail::check_matrix_dim(m, targets.size(), "apply_mux_unitary");
-      check_real(m.is_real(), "apply_mux_unitary");
-    }
-    for (const auto& e : entries)
-      if (e.matrix >= matrices.size())
-        throw std::invalid_argument("apply_mux_unitary: entry names matrix " + std::to_string(e.matrix) + " of " +
-                                    std::to_string(matrices.size()));
-    detail::kernel_mux_unitary(amps_.data(), n_, matrices, entries, targets, tm, select, sm, cm.mask, cm.value, ex_);
+    const auto op = checks().mux_unitary(matrices, entries, targets, select, controls);
+    detail::kernel_mux_unitary(amps_.data(), n_, matrices, entries, targets, op.targets, select, op.select,
+                               op.cond.mask, op.cond.value, ex_);
   }
 
   // ---- reading the state ----------------------------------------------------------------------
@@ -186,15 +170,14 @@ class state_vector {
   }
   // Probability that every control holds (e.g. out = 1).
   double probability(std::span<const control> condition) const {
-    const auto cm = detail::make_control_mask(condition, n_, "probability");
+    const auto cm = checks().probability(condition);
     const detail::subspace s(n_, cm.mask, cm.value);
     const Scalar* a = amps_.data();
     return detail::reduce_runs(s, ex_, [&](std::uint64_t f, std::uint64_t len) { return detail::norm_of_run(a, f, len); });
   }
   // Probabilities of every value of the register `bits` (2^k numbers).
   std::vector<double> distribution(std::span<const qubit_index> bits) const {
-    detail::make_operand_mask(bits, n_, 0, "distribution");
-    if (bits.size() > 26) throw std::invalid_argument("distribution: at most 26 qubits per register");
+    checks().distribution(bits);
     std::vector<double> p(std::size_t{1} << bits.size(), 0.0);
     for (std::uint64_t v = 0; v < p.size(); ++v) {
       std::vector<control> cond;
@@ -205,16 +188,29 @@ class state_vector {
   }
 
  private:
-  void check_real(bool real, const char* what) const {
-    if constexpr (!is_complex) {
-      if (!real)
-        throw std::invalid_argument(std::string(what) + ": complex_gate_needs_complex_backend: this state_vector<" +
-                                    detail::scalar_name<Scalar>() + "> stores real amplitudes");
-    }
-  }
+  detail::op_checks<std::uint64_t, Scalar> checks() const { return {n_, "state_vector"}; }
   unsigned n_;
   std::vector<Scalar, detail::huge_page_allocator<Scalar>> amps_;
   detail::exec_policy ex_;
+};
+
+// dense_backend: the dense backend as a type (qrm::backend_family): real or complex double.
+struct dense_backend {
+  static constexpr std::string_view name = "dense";
+  template <class S>
+  using state = state_vector<S>;
+  template <class F>
+  static decltype(auto) visit(std::size_t, bool real, F&& f) {
+    if (real) return f(std::type_identity<state_vector<double>>{});
+    return f(std::type_identity<state_vector<std::complex<double>>>{});
+  }
+  // One thread per state: the callers already run their states in parallel.
+  template <class B>
+  static B make(std::size_t n) {
+    dense_options o;
+    o.threads = 1;
+    return B(n, o);
+  }
 };
 
 }  // namespace qrm

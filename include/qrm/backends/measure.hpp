@@ -9,19 +9,20 @@
 #include <vector>
 
 #include "../circuit/layout.hpp"
+#include "backend.hpp"
 #include "../support/random.hpp"
 
 namespace qrm {
 
 // probability<L, C>(state): probability that control C (when<S, V>, on<S>, off<S>) holds.
-template <static_layout L, control_spec C, class B>
+template <static_layout L, control_spec C, state_reader B>
 double probability(const B& state) {
   static constexpr auto cs = detail::resolve_controls<L, C>();
   return state.probability(std::span<const control>(cs));
 }
 
 // distribution<L, S>(state): probabilities of each value of the qubits S (2^|S| numbers).
-template <static_layout L, selector S, class B>
+template <static_layout L, selector S, state_reader B>
 std::vector<double> distribution(const B& state) {
   static constexpr auto qs = resolve<L, S>();
   return state.distribution(std::span<const qubit_index>(qs));
@@ -54,7 +55,7 @@ inline std::vector<std::uint64_t> sample_counts(std::span<const double> p, std::
 }
 
 // sample_counts<L, S>(state, shots, g): measurement counts of register S.
-template <static_layout L, selector S, class B>
+template <static_layout L, selector S, state_reader B>
 std::vector<std::uint64_t> sample_counts(const B& state, std::uint64_t shots, rng& g) {
   const auto p = distribution<L, S>(state);
   std::vector<double> normalised(p);

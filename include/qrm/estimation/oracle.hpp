@@ -5,6 +5,7 @@
 // with qrm::binomial, so two oracles that agree on p_k give the same counts for the same seed.
 //   analytic_oracle            p_k = sin^2((2k+1) theta), a = sin^2 theta, from a once-computed a
 //   simulated_oracle<Backend>  applies Q^k A for real on a backend, continuing from Q^(k-1) A
+//   with_simulated_oracle<F>   a simulated_oracle on the backend that family F picks for the problem
 #pragma once
 
 #include <algorithm>
@@ -22,6 +23,7 @@
 #include <utility>
 #include <vector>
 
+#include "../backends/backend.hpp"
 #include "../circuit/program.hpp"
 #include "grover.hpp"
 #include "problem.hpp"
@@ -75,7 +77,7 @@ class analytic_oracle {
   explicit analytic_oracle(double a) : a_(validated(a)), theta_(detail::amplitude_angle(a_)) {}
 
   // From a problem: runs A once on make(width) and reads P(good).
-  template <class Backend, class Make>
+  template <backend Backend, class Make>
   static analytic_oracle from_problem(const estimation_problem& e, Make make) {
     detail::check_good(e.good, e.a.width(), "analytic_oracle::from_problem");
     Backend b = make(e.a.width());
@@ -83,7 +85,7 @@ class analytic_oracle {
     return analytic_oracle(
         detail::checked_probability(b.probability(std::span<const control>(e.good)), "analytic_oracle::from_problem"));
   }
-  template <class Backend>
+  template <backend Backend>
   static analytic_oracle from_problem(const estimation_problem& e) {
     return from_problem<Backend>(e, [](std::size_t n) { return Backend(n); });
   }
@@ -111,7 +113,7 @@ class analytic_oracle {
 // simulated_oracle<Backend>: every Grover iteration applied on a backend made by `make(width)`
 // (default: Backend(width)). p_k for growing k continues from the stored Q^(k-1) A state; a
 // smaller k restarts from A|0>. Values already computed are remembered.
-template <class Backend>
+template <backend Backend>
 class simulated_oracle {
  public:
   using factory = std::function<Backend(std::size_t)>;
@@ -190,5 +192,17 @@ class simulated_oracle {
   std::map<std::uint64_t, double> cache_;
   std::map<std::pair<double, std::uint64_t>, double> coin_cache_;
 };
+
+// with_simulated_oracle<F>(problem, f): f(oracle), the oracle a simulated_oracle on the backend
+// that family F picks for the problem's A (real amplitudes when A is real), its states built by
+// F::make.
+template <backend_family F, class Fn>
+auto with_simulated_oracle(const estimation_problem& e, Fn&& f) {
+  return F::visit(e.a.width(), e.a.is_real(), [&](auto type) {
+    using B = typename decltype(type)::type;
+    simulated_oracle<B> oracle(e, [](std::size_t n) { return F::template make<B>(n); });
+    return f(oracle);
+  });
+}
 
 }  // namespace qrm

@@ -7,7 +7,8 @@
 // (times S and the emission scale), as the root mean square over cells and repetitions.
 // The cost axis is the number of estimates: paths traced for Monte Carlo, runs of the
 // ray-marching circuit (applications of A, counting 2k+1 per shot of Q^k A) for the quantum
-// estimators, as the paper chose.
+// estimators, as the paper chose. Circuits run on a backend family (the compact backend unless
+// told otherwise).
 #pragma once
 
 #include <chrono>
@@ -16,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "../backends/backend.hpp"
+#include "../backends/compact.hpp"
 #include "../walk/classical.hpp"
 #include "../support/parallel.hpp"
 #include "../estimation/estimator.hpp"
@@ -36,9 +39,10 @@ struct study_cell {
   walk_program program;       // for the simulated oracle
 };
 
-// study_cells(model, steps, max_cells): the cells of a 2D light map with light reaching them
-// (exact P(out = 1) > 0), every channel, up to max_cells of them spread evenly.
-template <int = 0>
+// study_cells<F>(model, steps, max_cells): the cells of a 2D light map with light reaching them
+// (exact P(out = 1) > 0, run on backend family F), every channel, up to max_cells of them spread
+// evenly.
+template <backend_family F = compact_backend>
 std::vector<study_cell> study_cells(const walk_model& m, unsigned steps, std::size_t max_cells) {
   const scene& sc = m.scene_data();
   std::vector<study_cell> all;
@@ -51,7 +55,7 @@ std::vector<study_cell> study_cells(const walk_model& m, unsigned steps, std::si
       o.steps = steps;
       o.channel = c;
       s.program = make_walk_program(m, s.start, o);
-      s.exact = compact_probability(s.program);
+      s.exact = walk_probability<F>(s.program);
       s.radiance_scale = static_cast<double>(steps) * s.program.tables.emission_scale;
       s.classical_mean = path_sum(m, s.start, steps, c);
       if (s.exact > 0) all.push_back(std::move(s));
@@ -119,8 +123,9 @@ std::vector<error_point> monte_carlo_curve(const walk_model& m, const std::vecto
   return out;
 }
 
-// estimator_curve(cells, settings, options): one quantum estimator at several settings.
-template <int = 0>
+// estimator_curve<F>(cells, settings, options): one quantum estimator at several settings; a
+// simulated Grover runs on backend family F.
+template <backend_family F = compact_backend>
 std::vector<error_point> estimator_curve(const std::vector<study_cell>& cells,
                                          const std::vector<std::pair<std::string, estimator_settings>>& settings,
                                          const study_options& so) {
@@ -133,9 +138,9 @@ std::vector<error_point> estimator_curve(const std::vector<study_cell>& cells,
                                             analytic_oracle o(c.exact);
                                             r = estimate_amplitude(o, s, g);
                                           } else {
-                                            simulated_oracle<compact_state<double>> o(
-                                                estimation_problem{c.program.circuit, {control{c.program.out, true}}});
-                                            r = estimate_amplitude(o, s, g);
+                                            r = with_simulated_oracle<F>(
+                                                estimation_problem{c.program.circuit, {control{c.program.out, true}}},
+                                                [&](auto& o) { return estimate_amplitude(o, s, g); });
                                           }
                                           return std::pair<double, double>{
                                               (r.estimate - c.exact) * c.radiance_scale,

@@ -3,17 +3,18 @@
 //   estimate_lightmap   the paper's Fig. 4: for every cell and channel of a 2D scene, the faithful
 //                       A operator is simulated and its P(out = 1) estimated with an amplitude
 //                       estimator (the paper: FAE, maxiter 5, rescaling). With grover_mode::simulated
-//                       every Grover iteration is applied to the state (compact backend); with
+//                       every Grover iteration is applied to the state; with
 //                       grover_mode::analytic, a = P(out=1) is read once and P after k iterations
 //                       is sin^2((2k+1) theta): the same measurement statistics, far cheaper.
 //   render_quantum      a 3D image from the actual 3D walk circuit of each pixel's first hit,
-//                       simulated on the compact backend (the paper found this infeasible with a
-//                       general simulator and emulated it instead).
+//                       simulated for real (the paper found this infeasible with a general
+//                       simulator and emulated it instead).
 //   amplitude_path_estimator  the hook that makes render_emulated (the paper's emulator) estimate
 //                       mean(f) / (S * scale) with an amplitude estimator, as the paper did.
 //
-// Results are per (cell or start, channel) with a random stream of their own, so they are
-// bit-identical for any thread count and for any tiling.
+// Both simulate on a backend family (backends/backend.hpp), the compact backend unless told
+// otherwise: walk states are sparse. Results are per (cell or start, channel) with a random stream
+// of their own, so they are bit-identical for any thread count and for any tiling.
 #pragma once
 
 #include <array>
@@ -21,9 +22,9 @@
 #include <functional>
 #include <span>
 #include <string>
-#include <type_traits>
 #include <vector>
 
+#include "../backends/backend.hpp"
 #include "../backends/compact.hpp"
 #include "../walk/classical.hpp"
 #include "../support/parallel.hpp"
@@ -66,10 +67,10 @@ struct quantum_estimate {
 
 namespace detail {
 
-// P(out = 1) of a walk program and an estimate of it, for one (start, channel).
-template <int = 0>
-inline quantum_estimate estimate_walk(const walk_model& m, const walk_start& start, int channel,
-                                      const quantum_options& o, rng& g) {
+// P(out = 1) of a walk program and an estimate of it, for one (start, channel), on backend family F.
+template <backend_family F>
+quantum_estimate estimate_walk(const walk_model& m, const walk_start& start, int channel, const quantum_options& o,
+                               rng& g) {
   walk_options wo;
   wo.steps = o.steps;
   wo.channel = channel;
@@ -88,21 +89,13 @@ inline quantum_estimate estimate_walk(const walk_model& m, const walk_start& sta
     q.grover_calls = r.grover_calls;
     q.warning = r.warning;
   };
-  q.exact = compact_probability(w);
-  auto with_backend = [&](auto backend_tag) {
-    using backend = typename decltype(backend_tag)::type;
-    if (o.grover == grover_mode::simulated) {
-      simulated_oracle<backend> oracle(problem);
-      finish(oracle);
-    } else {
-      analytic_oracle oracle(q.exact);
-      finish(oracle);
-    }
-  };
-  if (w.circuit.is_real())
-    with_backend(std::type_identity<compact_state<double>>{});  // the 2D circuits: real amplitudes
-  else
-    with_backend(std::type_identity<compact_state<std::complex<double>>>{});  // 3D coins may be complex
+  q.exact = walk_probability<F>(w);
+  if (o.grover == grover_mode::simulated) {
+    with_simulated_oracle<F>(problem, finish);  // real for the 2D circuits; 3D coins may be complex
+  } else {
+    analytic_oracle oracle(q.exact);
+    finish(oracle);
+  }
   return q;
 }
 
@@ -136,15 +129,15 @@ std::vector<quantum_estimate> per_start_and_channel(const scene& sc, std::size_t
 
 }  // namespace detail
 
-// estimate_lightmap(model, options): every cell of a 2D scene (index x + N y) and channel,
+// estimate_lightmap<F>(model, options): every cell of a 2D scene (index x + N y) and channel,
 // indexed cell * 3 + channel; the start is the light-map start (cell centre, all directions in
 // air, into the surface otherwise), as the paper's Fig. 4.
-template <int = 0>
+template <backend_family F = compact_backend>
 std::vector<quantum_estimate> estimate_lightmap(const walk_model& m, const quantum_options& o) {
   const scene& sc = m.scene_data();
   const pixel_range range = tile_pixels(sc.voxel_count(), o.part);
   return detail::per_start_and_channel(sc, sc.voxel_count(), range, o, [&](std::size_t cell, int c, rng& g) {
-    return detail::estimate_walk(m, m.light_map_start(sc.coords(cell)), c, o, g);
+    return detail::estimate_walk<F>(m, m.light_map_start(sc.coords(cell)), c, o, g);
   });
 }
 
@@ -177,8 +170,8 @@ struct quantum_image {
   std::size_t distinct_starts = 0;
 };
 
-// render_quantum(model, camera, options): every pixel from its own 3D walk circuit.
-template <int = 0>
+// render_quantum<F>(model, camera, options): every pixel from its own 3D walk circuit.
+template <backend_family F = compact_backend>
 quantum_image render_quantum(const walk_model& m, const camera& cam, const quantum_options& o) {
   const auto px = pixel_starts(m, cam, o.part, o.threads);
   const pixel_range r = tile_pixels(static_cast<std::size_t>(cam.width()) * cam.height(), o.part);
@@ -192,7 +185,7 @@ quantum_image render_quantum(const walk_model& m, const camera& cam, const quant
         const auto& key = groups.keys[k];
         rng keyed = rng::stream(o.seed, (key.first * dirs + static_cast<std::size_t>(key.second)) * 3 +
                                             static_cast<std::size_t>(c));
-        return detail::estimate_walk(m, qrm::detail::render_start_of(m.scene_data(), key), c, o, keyed);
+        return detail::estimate_walk<F>(m, qrm::detail::render_start_of(m.scene_data(), key), c, o, keyed);
       });
   for (std::size_t k = 0; k < px.size(); ++k) {
     if (!px[k].hit) continue;

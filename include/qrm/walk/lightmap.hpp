@@ -5,10 +5,10 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <functional>
 #include <string>
 #include <vector>
 
+#include "../backends/backend.hpp"
 #include "../backends/compact.hpp"
 #include "../backends/dense.hpp"
 #include "classical.hpp"
@@ -34,43 +34,24 @@ struct lightmap_options {
   bool faithful = true, history = true;
 };
 
-// Runs a walk program and returns P(out = 1). `dense_probability` uses a real dense state
-// vector; other backends plug in with their own function of this shape.
-using probability_runner = std::function<double(const walk_program&)>;
-
-template <int = 0>
-inline double dense_probability(const walk_program& w) {
-  dense_options o;
-  o.threads = 1;  // cells are already run in parallel
-  if (w.circuit.is_real()) {
-    state_vector<double> s(w.circuit.width(), o);
+// walk_probability<F>(w): P(out = 1) of the walk program w run on backend family F (backend.hpp):
+// real amplitudes when every gate is real, one thread per state (cells already run in parallel).
+// The compact backend is far faster for walk circuits, whose support is a tiny fraction of 2^width.
+template <backend_family F>
+double walk_probability(const walk_program& w) {
+  return F::visit(w.circuit.width(), w.circuit.is_real(), [&](auto type) {
+    using B = typename decltype(type)::type;
+    static_assert(backend<B>, "backend_family: visit must pass a qrm::backend");
+    B s = F::template make<B>(w.circuit.width());
     return probability_out(s, w);
-  }
-  state_vector<std::complex<double>> s(w.circuit.width(), o);
-  return probability_out(s, w);
+  });
 }
 
-// compact_probability(w): the same on the compact backend (only the walk's nonzero amplitudes;
-// far faster for walk circuits, whose support is a tiny fraction of 2^width).
-template <int = 0>
-inline double compact_probability(const walk_program& w) {
-  if (w.circuit.width() > 64) {
-    compact_state<std::complex<double>, wide_label<2>> s(w.circuit.width());
-    return probability_out(s, w);
-  }
-  if (w.circuit.is_real()) {
-    compact_state<double> s(w.circuit.width());
-    return probability_out(s, w);
-  }
-  compact_state<std::complex<double>> s(w.circuit.width());
-  return probability_out(s, w);
-}
-
-// exact_lightmap(model, options, probability_of): every cell (x, y[, z]) and channel, in the order
-// y, x, channel (z outermost in 3D). Identical channels (grey scenes) are computed once.
-template <int = 0>
-inline std::vector<lightmap_cell> exact_lightmap(const walk_model& m, const lightmap_options& opt,
-                                                 const probability_runner& probability_of = dense_probability<>) {
+// exact_lightmap<F>(model, options): every cell (x, y[, z]) and channel, in the order y, x, channel
+// (z outermost in 3D), the circuits run on backend family F. Identical channels (grey scenes) are
+// computed once.
+template <backend_family F = dense_backend>
+std::vector<lightmap_cell> exact_lightmap(const walk_model& m, const lightmap_options& opt) {
   const scene& sc = m.scene_data();
   const std::array<int, 3> source = sc.channel_sources();  // channel c copies channel source[c]
   const std::size_t cells = sc.voxel_count();
@@ -92,10 +73,10 @@ inline std::vector<lightmap_cell> exact_lightmap(const walk_model& m, const ligh
     o.prune = opt.prune;
     o.channel = c;
     r.classical = path_sum(m, start, opt.steps, c) / (static_cast<double>(opt.steps) * r.emission_scale);
-    if (opt.faithful) r.faithful = probability_of(make_walk_program(m, start, o));
+    if (opt.faithful) r.faithful = walk_probability<F>(make_walk_program(m, start, o));
     if (opt.history) {
       o.variant = walk_variant::history;
-      r.history = probability_of(make_walk_program(m, start, o));
+      r.history = walk_probability<F>(make_walk_program(m, start, o));
     }
   });
   for (std::size_t cell = 0; cell < cells; ++cell)

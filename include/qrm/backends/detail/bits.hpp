@@ -7,8 +7,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
-#include <stdexcept>
-#include <string>
 
 #include "../../circuit/ops.hpp"
 
@@ -61,41 +59,5 @@ struct subspace {
     return k | fixed_value;
   }
 };
-
-// Mask and value of a list of controls; throws if a control is out of range or repeated.
-struct control_mask {
-  std::uint64_t mask = 0, value = 0;
-};
-inline control_mask make_control_mask(std::span<const control> cs, std::size_t n, const char* what) {
-  control_mask m;
-  for (const control& c : cs) {
-    if (c.qubit >= n)
-      throw std::invalid_argument(std::string(what) + ": control qubit " + std::to_string(c.qubit) + " is outside the " +
-                                  std::to_string(n) + "-qubit state");
-    const std::uint64_t b = std::uint64_t{1} << c.qubit;
-    if (m.mask & b)
-      throw std::invalid_argument(std::string(what) + ": qubit " + std::to_string(c.qubit) + " is controlled twice");
-    m.mask |= b;
-    if (c.value) m.value |= b;
-  }
-  return m;
-}
-
-// Mask of operand qubits; throws if out of range, repeated, or overlapping `taken`.
-inline std::uint64_t make_operand_mask(std::span<const qubit_index> qs, std::size_t n, std::uint64_t taken,
-                                       const char* what) {
-  std::uint64_t mask = 0;
-  for (qubit_index q : qs) {
-    if (q >= n)
-      throw std::invalid_argument(std::string(what) + ": qubit " + std::to_string(q) + " is outside the " +
-                                  std::to_string(n) + "-qubit state");
-    const std::uint64_t b = std::uint64_t{1} << q;
-    if ((mask | taken) & b)
-      throw std::invalid_argument(std::string(what) + ": qubit " + std::to_string(q) +
-                                  " is used twice (qubits_must_be_disjoint)");
-    mask |= b;
-  }
-  return mask;
-}
 
 }  // namespace qrm::detail

@@ -1,14 +1,12 @@
 // qrm/backends/detail/compact_kernels.hpp: building blocks of the compact backend (backends/compact.hpp):
-// entries, searches in the sorted entry list, operand checks on labels of any width, matrices
-// compiled for sparse inputs, and the select-value lookup of multiplexed gates.
+// entries, searches in the sorted entry list, matrices compiled for sparse inputs, and the
+// select-value lookup of multiplexed gates.
 #pragma once
 
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <span>
-#include <stdexcept>
-#include <string>
 #include <utility>
 #include <vector>
 
@@ -70,45 +68,6 @@ bool next_match(const Label& x, const Label& mask, const Label& value, Label& ou
   if (T::is_all_ones(carry_path)) return false;
   out = (T::increment(carry_path) & ~mask) | value;
   return true;
-}
-
-// Controls as a label mask and value; same checks and messages as the dense backend.
-template <class Label>
-struct label_condition {
-  Label mask{}, value{};
-};
-
-template <class Label>
-label_condition<Label> make_label_condition(std::span<const control> cs, std::size_t n, const char* what) {
-  using T = label_traits<Label>;
-  label_condition<Label> c;
-  for (const control& k : cs) {
-    if (k.qubit >= n)
-      throw std::invalid_argument(std::string(what) + ": control qubit " + std::to_string(k.qubit) +
-                                  " is outside the " + std::to_string(n) + "-qubit state");
-    if (T::test(c.mask, k.qubit))
-      throw std::invalid_argument(std::string(what) + ": qubit " + std::to_string(k.qubit) + " is controlled twice");
-    c.mask = c.mask | T::bit(k.qubit);
-    if (k.value) c.value = c.value | T::bit(k.qubit);
-  }
-  return c;
-}
-
-// Mask of operand qubits; throws if one is out of range, repeated, or already in `taken`.
-template <class Label>
-Label make_label_operands(std::span<const qubit_index> qs, std::size_t n, const Label& taken, const char* what) {
-  using T = label_traits<Label>;
-  Label mask{};
-  for (qubit_index q : qs) {
-    if (q >= n)
-      throw std::invalid_argument(std::string(what) + ": qubit " + std::to_string(q) + " is outside the " +
-                                  std::to_string(n) + "-qubit state");
-    if (T::test(mask | taken, q))
-      throw std::invalid_argument(std::string(what) + ": qubit " + std::to_string(q) +
-                                  " is used twice (qubits_must_be_disjoint)");
-    mask = mask | T::bit(q);
-  }
-  return mask;
 }
 
 // A 2x2 matrix as (re, im) of m00, m01, m10, m11.
