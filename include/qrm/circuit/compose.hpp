@@ -114,8 +114,10 @@ struct circuit {
 
   static constexpr bool register_must_belong_to_layout =
       detail::every_in<typename body_type::registers, typename L::registers>;
-  static_assert(register_must_belong_to_layout,
-                "register_must_belong_to_layout: a gate of the circuit uses a register the layout does not have");
+  static_assert(
+      detail::require<register_must_belong_to_layout,
+                      detail::find_foreign_register<typename body_type::registers, typename L::registers>>::checked,
+      "register_must_belong_to_layout: a gate of the circuit uses a register the layout does not have");
 
   circuit() = default;
   explicit circuit(G... g) : body(std::move(g)...) {}
@@ -129,8 +131,9 @@ struct circuit {
 
   // Depth bound: ASAP layering of the gates as the structure gives them (a multiplexed gate
   // occupies one layer per possible select value; a run-time table may prune that).
+  // (Neither these metrics nor emit() look a foreign register up: the rule above reported it.)
   static constexpr std::size_t depth_bound = [] {
-    if constexpr (L::width == 0) {
+    if constexpr (L::width == 0 || !register_must_belong_to_layout) {
       return std::size_t{0};
     } else {
       std::array<std::size_t, L::width> level{};
@@ -141,13 +144,13 @@ struct circuit {
   // Qubits some gate touches.
   static constexpr std::size_t qubits_touched = [] {
     std::array<bool, L::width> used{};
-    body_type::template touch<L>(used);
+    if constexpr (register_must_belong_to_layout) body_type::template touch<L>(used);
     return static_cast<std::size_t>(std::count(used.begin(), used.end(), true));
   }();
 
   template <gate_sink S>
   void emit(S& sink) const {
-    body.template emit<L>(sink);
+    if constexpr (register_must_belong_to_layout) body.template emit<L>(sink);
   }
 
   auto adjoint() const {

@@ -13,6 +13,7 @@
 #include <type_traits>
 
 #include "../support/detail/meta.hpp"
+#include "detail/diagnostics.hpp"
 #include "ops.hpp"
 #include "registers.hpp"
 
@@ -57,9 +58,13 @@ struct layout_storage {
   // offset<R>: the qubit index of R's least significant qubit.
   template <class R>
   static constexpr qubit_index offset = [] {
-    static_assert((std::is_same_v<R, Regs> || ...),
+    constexpr bool found = (std::is_same_v<R, Regs> || ...);
+    static_assert(require<found, find_foreign_register<type_list<R>, type_list<Regs...>>>::checked,
                   "register_must_belong_to_layout: the register is not part of this layout");
-    return register_table[index_in_pack<R, Regs...>()].offset;
+    if constexpr (found)
+      return register_table[index_in_pack<R, Regs...>()].offset;
+    else
+      return qubit_index{0};  // already reported: no second error for the out-of-range index
   }();
 
   static constexpr std::size_t num_qubits() { return width; }
@@ -138,13 +143,21 @@ struct layout : detail::layout_storage<(static_register<Regs> && ...), Regs...> 
   // expressions when the layout is static).
   template <class R>
   constexpr qubit_index offset_of() const {
-    static_assert(contains<R>, "register_must_belong_to_layout: the register is not part of this layout");
-    return this->registers_info()[detail::index_in_pack<R, Regs...>()].offset;
+    static_assert(detail::require<contains<R>, detail::find_foreign_register<detail::type_list<R>, registers>>::checked,
+                  "register_must_belong_to_layout: the register is not part of this layout");
+    if constexpr (contains<R>)
+      return this->registers_info()[detail::index_in_pack<R, Regs...>()].offset;
+    else
+      return 0;  // already reported: no second error for the out-of-range index
   }
   template <class R>
   constexpr std::size_t width_of() const {
-    static_assert(contains<R>, "register_must_belong_to_layout: the register is not part of this layout");
-    return this->registers_info()[detail::index_in_pack<R, Regs...>()].width;
+    static_assert(detail::require<contains<R>, detail::find_foreign_register<detail::type_list<R>, registers>>::checked,
+                  "register_must_belong_to_layout: the register is not part of this layout");
+    if constexpr (contains<R>)
+      return this->registers_info()[detail::index_in_pack<R, Regs...>()].width;
+    else
+      return 0;
   }
   // qubit_of<R>(i): qubit i of R (i counted from R's least significant qubit), checked.
   template <class R>
@@ -298,6 +311,16 @@ constexpr std::array<qubit_index, selector_width<S>> resolve() {
 
 // ---- controls -------------------------------------------------------------------------------
 
+namespace detail {
+// control_value_too_large<...> for when<S, V>: the value, the number of qubits, S's registers.
+template <class S, std::uint64_t V, class Registers = list_unique_t<typename selector_traits<S>::registers>>
+struct find_oversized_value;
+template <class S, std::uint64_t V, class... R>
+struct find_oversized_value<S, V, type_list<R...>> {
+  using type = control_value_too_large<control_value<V>, selected_qubits<selector_traits<S>::count>, name_of<R>...>;
+};
+}  // namespace detail
+
 // when<S, Value>: control on the qubits of S reading Value (bit i of Value for qubit i of S);
 // per-qubit values make negative controls: when<bit<r, 0>, 0> fires on |0>.
 template <class S, std::uint64_t Value>
@@ -307,7 +330,7 @@ struct when {
                 "control_must_select_qubits: when<S, V> needs S to be a register, bit<>, slice<> or qubits<>");
   static constexpr bool control_value_must_fit_register =
       Value <= max_value_of_width(detail::selector_traits<S>::count);
-  static_assert(control_value_must_fit_register,
+  static_assert(detail::require<control_value_must_fit_register, detail::find_oversized_value<S, Value>>::checked,
                 "control_value_must_fit_register: when<S, V> needs V < 2^(number of qubits of S)");
 };
 
@@ -356,6 +379,16 @@ constexpr auto resolve_controls() {
       ...);
   return r;
 }
+
+// The first control of C... whose value does not fit its qubits (only when<> can be one).
+template <class... C>
+struct find_oversized_control;
+template <class C, class... Rest>
+struct find_oversized_control<C, Rest...> {
+  using type = typename std::conditional_t<
+      control_traits<C>::fits, find_oversized_control<Rest...>,
+      find_oversized_value<typename control_traits<C>::sel, control_traits<C>::value>>::type;
+};
 
 template <class... C>
 using control_registers_t = list_join_t<typename selector_traits<typename control_traits<C>::sel>::registers...>;

@@ -8,6 +8,7 @@
 
 #include "../layout.hpp"
 #include "../../support/detail/meta.hpp"
+#include "diagnostics.hpp"
 
 namespace qrm::detail {
 
@@ -61,6 +62,25 @@ struct checked_qubits<type_list<Sels...>, Ctrls...> {
     }
   }
   static constexpr bool qubits_must_be_disjoint = disjoint();
+
+  // The culprits of the last two rules (see diagnostics.hpp), instantiated only when one fails.
+  using oversized_control = find_oversized_control<Ctrls...>;
+  struct find_clash {  // the first qubit used twice: its register and bit
+    using local = typename layout_from_list<registers>::type;
+    static constexpr auto qs = all_qubits<local>();
+    static constexpr qubit_index q = [] {
+      for (std::size_t i = 0; i < qs.size(); ++i)
+        for (std::size_t j = i + 1; j < qs.size(); ++j)
+          if (qs[i] == qs[j]) return qs[i];
+      return qs[0];
+    }();
+    static constexpr std::size_t r = [] {
+      std::size_t i = 0;
+      while (q >= local::register_table[i].offset + local::register_table[i].width) ++i;
+      return i;
+    }();
+    using type = qubit_used_twice<name_of<list_at_t<r, registers>>, bit_index<q - local::register_table[r].offset>>;
+  };
 };
 
 // Every qubit of `qs` waits for the latest of them, then all advance by `layers`.
@@ -81,7 +101,9 @@ constexpr void schedule_block(std::array<std::size_t, W>& level, const std::arra
                 "qubits<>");                                                                                       \
   static_assert(checked::controls_must_select_qubits,                                                              \
                 "controls_must_select_qubits: each control must be when<S, V>, on<S>, off<S> or a selector");      \
-  static_assert(checked::control_value_must_fit_register,                                                          \
+  static_assert(::qrm::detail::require<checked::control_value_must_fit_register,                                   \
+                                       typename checked::oversized_control>::checked,                              \
                 "control_value_must_fit_register: when<S, V> needs V < 2^(number of qubits of S)");                \
-  static_assert(checked::qubits_must_be_disjoint,                                                                  \
+  static_assert(::qrm::detail::require<checked::qubits_must_be_disjoint,                                           \
+                                       typename checked::find_clash>::checked,                                     \
                 "qubits_must_be_disjoint: a qubit is used twice among the gate's targets, select and controls")
