@@ -213,7 +213,7 @@ void paper_8x8_typed(benchmark::State& st) {
   const qrm::walk_start start = m.light_map_start({1, 1, 0});
   const auto prune = static_cast<qrm::pruning>(st.range(2));
   using static_walk = qrm::ray_marching_circuit<2, 3, 3, 3, V>;
-  using dynamic_walk = qrm::walk_circuit<qrm::dynamic_walk_shape<2, V>>;
+  using dynamic_walk = qrm::walk_circuit<qrm::dynamic_walk_shape<2>>;
   const auto a = [&] {
     if constexpr (Static) return static_walk(m, start, 0, prune);
     else return dynamic_walk(m, start, qrm::walk_options{3, V, prune, 0});

@@ -88,7 +88,7 @@ void check_static_equals_dynamic(const qrm::walk_model& m, const qrm::walk_start
     o.steps = steps;
     o.variant = v;
     o.prune = p;
-    const auto dynamic = qrm::with_dynamic_walk(m.dims(), v, [&]<class C>(std::type_identity<C>) {
+    const auto dynamic = qrm::with_dynamic_walk(m.dims(), [&]<class C>(std::type_identity<C>) {
       return qrm::record(C(m, start, o));
     });
     const qrm::program from_type = qrm::record(typed);

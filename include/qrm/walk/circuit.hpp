@@ -256,6 +256,11 @@ struct walk_shape {
   static constexpr bool dyn_p = PositionBits == dynamic_width || FractionalBits == dynamic_width;
 
  public:
+  // A history shape whose hist width is dynamic runs either variant: in the faithful walk its
+  // hist register is empty. (So one type serves every run-time walk of a dimension.)
+  static constexpr bool variant_at_run_time = Variant == walk_variant::history && (dyn_s || dyn_d);
+
+ public:
   using out = walk_registers::out;
   using steps = walk_registers::steps<detail::width_or_dynamic(dyn_s, dyn_s ? 0 : steps_register_bits(Steps))>;
   using emission = walk_registers::emission<Steps>;
@@ -274,10 +279,11 @@ struct walk_shape {
       detail::list_join_t<detail::type_list<out, steps, emission, reflectance, history, direction>, axes>>::type>::type;
 };
 
-// A walk of any size known only at run time (what the CLI, light maps and renderers run).
-template <std::size_t Dims, walk_variant Variant>
-using dynamic_walk_shape =
-    walk_shape<Dims, dynamic_width, dynamic_width, dynamic_width, Variant, Dims == 2 ? 0 : dynamic_width>;
+// A walk whose sizes and variant are known only at run time (what the CLI, light maps and
+// renderers run): one type per dimension.
+template <std::size_t Dims>
+using dynamic_walk_shape = walk_shape<Dims, dynamic_width, dynamic_width, dynamic_width, walk_variant::history,
+                                      Dims == 2 ? 0 : dynamic_width>;
 
 namespace detail {
 // The widths of L's registers for a model and step count (by role: the walk's registers are one
@@ -384,7 +390,7 @@ class walk_circuit {
     if (m.dims() != Shape::dims)
       throw std::invalid_argument("walk: the circuit type is for " + std::to_string(Shape::dims) +
                                   "D scenes, the scene is " + std::to_string(m.dims()) + "D");
-    if (o.variant != Shape::variant)
+    if (!Shape::variant_at_run_time && o.variant != Shape::variant)
       throw std::invalid_argument("walk: the circuit type's variant differs from the options'");
     if (o.steps < 1 || o.steps > 64) throw std::invalid_argument("walk: steps must be in [1, 64], got " + std::to_string(o.steps));
     return layout_type::with_widths(
@@ -492,17 +498,13 @@ struct walk_program {
   std::size_t full_width = 0;
 };
 
-// with_dynamic_walk(dims, variant, f): f(std::type_identity<walk_circuit<dynamic_walk_shape<D, V>>>)
-// for the run-time dims and variant.
+// with_dynamic_walk(dims, f): f(std::type_identity<walk_circuit<dynamic_walk_shape<D>>>) for the
+// run-time dims.
 template <class F>
-decltype(auto) with_dynamic_walk(unsigned dims, walk_variant v, F&& f) {
+decltype(auto) with_dynamic_walk(unsigned dims, F&& f) {
   if (dims != 2 && dims != 3) throw std::invalid_argument("walk: dims must be 2 or 3, got " + std::to_string(dims));
-  const bool history = v == walk_variant::history;
-  if (dims == 2)
-    return history ? f(std::type_identity<walk_circuit<dynamic_walk_shape<2, walk_variant::history>>>{})
-                   : f(std::type_identity<walk_circuit<dynamic_walk_shape<2, walk_variant::faithful>>>{});
-  return history ? f(std::type_identity<walk_circuit<dynamic_walk_shape<3, walk_variant::history>>>{})
-                 : f(std::type_identity<walk_circuit<dynamic_walk_shape<3, walk_variant::faithful>>>{});
+  if (dims == 2) return f(std::type_identity<walk_circuit<dynamic_walk_shape<2>>>{});
+  return f(std::type_identity<walk_circuit<dynamic_walk_shape<3>>>{});
 }
 
 // record(c): a typed circuit lowered to a program (its layout's non-empty registers kept for
@@ -522,7 +524,7 @@ program record(const C& c) {
 // walk's gate templates on a dynamic layout, recorded, then (pruned levels) without idle qubits.
 template <int = 0>
 inline walk_program make_walk_program(const walk_model& m, const walk_start& start, const walk_options& o) {
-  return with_dynamic_walk(m.dims(), o.variant, [&]<class C>(std::type_identity<C>) {
+  return with_dynamic_walk(m.dims(), [&]<class C>(std::type_identity<C>) {
     const C a(m, start, o);
     walk_program w;
     w.tables = a.tables();
