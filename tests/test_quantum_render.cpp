@@ -9,7 +9,7 @@
 #include <qrm/io/svg_plot.hpp>
 #include <qrm/walk/lightmap.hpp>
 #include <qrm/walk/paper_scenes.hpp>
-#include <qrm/render/experiments.hpp>
+#include "studies.hpp"  // examples/qrm: the convergence and cost studies
 #include <qrm/render/quantum.hpp>
 #include <qrm/render/voxelize.hpp>
 

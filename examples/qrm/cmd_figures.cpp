@@ -17,7 +17,7 @@
 #include <qrm/io/atomic_file.hpp>
 #include <qrm/io/pfm.hpp>
 #include <qrm/io/svg_plot.hpp>
-#include <qrm/render/experiments.hpp>
+#include "studies.hpp"
 
 #include "commands.hpp"
 #include "render_job.hpp"

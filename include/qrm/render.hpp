@@ -1,4 +1,5 @@
-// qrm/render.hpp: 3D images on the walk's discretization.
+// qrm/render.hpp: 3D images on the walk's discretization. (The convergence and cost studies of
+// `qrm figures` live beside the tool: examples/qrm/studies.hpp.)
 //   render/voxelize.hpp    surface voxelization (rectangles, boxes, spheres): cornell_box, two_spheres
 //   render/camera.hpp      pinhole camera: rays through pixel centres or jittered within pixels
 //   render/dda.hpp         first voxel hit by a ray (Amanatides-Woo 3D DDA through the grid)
@@ -7,7 +8,6 @@
 //                          sample K); threads and tiles
 //   render/quantum.hpp     with the circuit: estimated light maps (FAE on the simulated circuit), fully
 //                          quantum 3D images, the amplitude-estimation hook for the emulator
-//   render/experiments.hpp convergence (error vs estimates) and cost (error vs time) studies
 #pragma once
 
 #include "render/voxelize.hpp"
@@ -16,4 +16,3 @@
 #include "render/tiles.hpp"
 #include "render/classical.hpp"
 #include "render/quantum.hpp"
-#include "render/experiments.hpp"

@@ -1,4 +1,4 @@
-// qrm/render/experiments.hpp: the paper's convergence study (Fig. 1 centre) and what accuracy
+// examples/qrm/studies.hpp (used by `qrm figures` and test_quantum_render): the paper's convergence study (Fig. 1 centre) and what accuracy
 // costs in time, on the same cells for every method.
 //
 // Error is measured against what each method estimates: the quantum estimators estimate the
@@ -17,15 +17,15 @@
 #include <string>
 #include <vector>
 
-#include "../backends/backend.hpp"
-#include "../backends/compact.hpp"
-#include "../walk/classical.hpp"
-#include "../support/parallel.hpp"
-#include "../estimation/estimator.hpp"
-#include "../estimation/oracle.hpp"
-#include "../walk/lightmap.hpp"
-#include "../walk/circuit.hpp"
-#include "quantum.hpp"
+#include <qrm/backends/backend.hpp>
+#include <qrm/backends/compact.hpp>
+#include <qrm/walk/classical.hpp>
+#include <qrm/support/parallel.hpp>
+#include <qrm/estimation/estimator.hpp>
+#include <qrm/estimation/oracle.hpp>
+#include <qrm/walk/lightmap.hpp>
+#include <qrm/walk/circuit.hpp>
+#include <qrm/render/quantum.hpp>
 
 namespace qrm::render {
 
