@@ -1,6 +1,6 @@
 // Amplitude estimation, deterministic parts: the special functions, the problems, the Grover
 // operator and the coin against closed forms, analytic vs simulated oracles (same seed, same
-// counts), FAE against an independent transcription of SPEC.md section 5, the hard-case table,
+// counts), FAE against an independent transcription of the FAE rules stated in fae.hpp's header, the hard-case table,
 // call counting, input errors and the radiance helper.
 #include <doctest/doctest.h>
 
@@ -252,7 +252,7 @@ TEST_CASE("analytic and simulated oracles give identical counts for the same see
 }
 
 namespace {
-// FAE transcribed directly from SPEC.md section 5 in exact-probability mode: returns the theta
+// FAE transcribed directly from the FAE rules stated in fae.hpp's header in exact-probability mode: returns the theta
 // interval, the raw estimate, and the A-call count.
 struct fae_reference {
   double theta_lo, theta_hi, estimate;
@@ -299,7 +299,7 @@ fae_reference fae_from_spec(double a, double delta, int l, bool rescale) {
 }
 }  // namespace
 
-TEST_CASE("FAE in exact mode matches a direct transcription of SPEC.md section 5") {
+TEST_CASE("FAE in exact mode matches a direct transcription of the FAE rules stated in fae.hpp's header") {
   int compared = 0;
   for (double a : {1e-5, 0.003, 0.05, 0.1, 0.2, 0.24, 0.3, 0.5, 0.77, 0.95, 0.999}) {
     for (double delta : {0.01, 0.05, 0.001}) {
@@ -332,7 +332,7 @@ TEST_CASE("FAE in exact mode matches a direct transcription of SPEC.md section 5
   CHECK(compared > 200);
 }
 
-TEST_CASE("FAE: the CLI reference case, and the shot counts of SPEC.md") {
+TEST_CASE("FAE: the CLI reference case, and the shot counts of those rules") {
   // qrm estimate --estimator fae --probability 0.2 --delta 0.01 --maxiter 5 --no-rescale --exact-probabilities
   qrm::analytic_oracle o(0.2);
   qrm::rng g(1);

@@ -1,4 +1,4 @@
-// Scenes: the paper's data as SPEC.md states it, the text format's round trip, and its errors.
+// Scenes: the paper's data as the authors' code has it, the text format's round trip, and its errors.
 #include <doctest/doctest.h>
 
 #include <string>
@@ -16,11 +16,11 @@ const char* header2d = "qrm-scene 1\ndims 2\nsize 4\ncolor w 1 1 1\n";
 
 }  // namespace
 
-TEST_CASE("paper_8x8 holds SPEC.md's data") {
+TEST_CASE("paper_8x8 holds the authors' data") {
   const qrm::scene s = qrm::paper_8x8();
   CHECK(s.size() == 8);
   CHECK(s.dims() == 2);
-  // Spot checks typed in from SPEC.md section 3 (x = column, y = row).
+  // Spot checks typed in from the authors' tables (x = column, y = row).
   CHECK(s.at(0, 0).kind == qrm::material::boundary);
   CHECK(s.at(0, 0).normal_index == 3);
   CHECK(s.at(7, 0).normal_index == 5);
@@ -48,7 +48,7 @@ TEST_CASE("paper_8x8 holds SPEC.md's data") {
   CHECK(air == 27);       // 64 minus 28 border cells minus the 3x3 block in the middle
 }
 
-TEST_CASE("paper_4x4 holds SPEC.md's data") {
+TEST_CASE("paper_4x4 holds the authors' data") {
   const qrm::scene s = qrm::paper_4x4();
   CHECK(s.at(3, 0).normal_index == 5);
   CHECK(s.at(2, 0).emission == qrm::rgb{1, 1, 1});

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Runs `qrm estimate --estimator fae ... --exact-probabilities --format json` for a grid of cases
-and compares each result with FAE written down directly from SPEC.md section 5 (this file is the
+and compares each result with FAE written down directly from the FAE rules stated in fae.hpp's header (this file is the
 independent reference: plain Python floats, no shared code with the library)."""
 import json
 import math
@@ -9,7 +9,7 @@ import sys
 
 
 def fae_spec(a, delta, maxiter, rescale):
-    """SPEC.md section 5, exact-probability mode: returns (theta_lo, theta_hi, estimate, calls)."""
+    """the FAE rules stated in fae.hpp's header, exact-probability mode: returns (theta_lo, theta_hi, estimate, calls)."""
     target = a / 16 if rescale else a
     theta = math.asin(math.sqrt(target))
     n1 = math.floor(1944 * math.log(2 / delta))

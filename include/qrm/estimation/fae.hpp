@@ -1,6 +1,6 @@
 // qrm/estimation/fae.hpp: Faster Amplitude Estimation (Nakaji 2020), the variant the paper uses,
 // exactly as the widely used implementation (qiskit-algorithms) runs it, so that an
-// exact-probability run is reproducible digit for digit (SPEC.md section 5):
+// exact-probability run is reproducible digit for digit (tests/reference/fae_from_spec.py ports these rules independently):
 //   shots N1 = floor(1944 ln(2/delta)), N2 = floor(972 ln(2/delta)); K_j = 2^(j+1) + 2;
 //   c(k) = 1 - 2 p^(k) estimates cos(2(2k+1) theta); Chernoff interval c +- sqrt(12 ln(2/delta)/N)
 //   clipped to [-1, 1]; theta interval starts at [0, asin(1/4)].

@@ -3,7 +3,7 @@
 // Column d of a coin is where direction d goes: U|d> = sum_r U[r][d] |r>. Kinds:
 //   vacuum      identity (air: no gate at all)
 //   lambertian  scatter into the outgoing hemisphere in superposition. 2D: the paper's +-1/2
-//               matrix (SPEC.md section 3), incoming -> {n-2, n-1, n, n+1}, 1/4 each.
+//               matrix (as in the authors' code), incoming -> {n-2, n-1, n, n+1}, 1/4 each.
 //               3D: incoming -> equal magnitude over the outgoing set, made unitary with the
 //               columns of a Hadamard matrix (real, Sylvester, when the outgoing set has 2^k
 //               directions; otherwise the complex Fourier matrix).
@@ -28,7 +28,7 @@
 
 namespace qrm {
 
-// lambertian_coin_2d(n): the paper's 8x8 Lambertian coin for normal index n (SPEC.md section 3).
+// lambertian_coin_2d(n): the paper's 8x8 Lambertian coin for normal index n (the authors' +-1/2 matrix).
 template <int = 0>
 inline dense_matrix lambertian_coin_2d(int n) {
   if (n < 0 || n > 7) throw std::invalid_argument("lambertian_coin_2d: normal index must be 0..7, got " + std::to_string(n));

@@ -1,5 +1,6 @@
 // qrm/walk/paper_scenes.hpp: the paper's 2D scenes, paper_4x4 and paper_8x8, with exactly the data
-// and conventions of SPEC.md section 3 (taken from the authors' code).
+// and conventions of the authors' code (x = column, y = row growing downwards, directions 0 N,
+// 1 NE, ..., 7 NW; the cell tables below are theirs).
 #pragma once
 
 #include <stdexcept>
