@@ -10,7 +10,10 @@
 // Include a single layer (e.g. <qrm/circuit.hpp> and <qrm/backends/dense.hpp>) to pay only for it.
 //
 // Non-template functions in these headers are written `template <int = 0>` so that they are
-// compiled only in the translation units that call them: including a layer stays cheap.
+// compiled only in the translation units that call them: including a layer stays cheap. Where
+// such a function uses a helper class template, it passes its parameter on (`template <int
+// Deferred = 0>` ... `helper<Deferred>`): a helper named with a fixed argument would be
+// instantiated by the compiler where the header is read, used or not.
 #pragma once
 
 #include "version.hpp"

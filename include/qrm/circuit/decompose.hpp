@@ -243,7 +243,7 @@ inline std::vector<two_level> two_level_factors(const dense_matrix& u) {
   }
   std::vector<two_level> factors;
   factors.reserve(elim.size());
-  for (auto it = elim.rbegin(); it != elim.rend(); ++it) factors.push_back({it->s, it->t, adjoint(it->g)});
+  for (std::size_t i = elim.size(); i-- > 0;) factors.push_back({elim[i].s, elim[i].t, adjoint(elim[i].g)});
   return factors;
 }
 
@@ -283,7 +283,7 @@ inline std::vector<local_gate> two_level_gates(const dense_matrix& u, std::size_
     for (const local_gate& g : perms) push_local(out, g);
     const gate1 mid = ((cur >> p) & 1u) == 0 ? f.g : gate::u(f.g.m[1][1], f.g.m[1][0], f.g.m[0][1], f.g.m[0][0]);
     push_local(out, {mid, p, others(p, cur), true});
-    for (auto it = perms.rbegin(); it != perms.rend(); ++it) push_local(out, *it);
+    for (std::size_t i = perms.size(); i-- > 0;) push_local(out, perms[i]);
   }
   return out;
 }
@@ -348,7 +348,7 @@ struct lowered_gate {
 };
 
 // Collects output gates; with `optimize`, fuses single-qubit runs and cancels equal pairs.
-template <int = 0>  // a template so that it is compiled only where used
+template <int = 0>
 class peephole_sink {
  public:
   explicit peephole_sink(bool optimize) : optimize_(optimize) {}
@@ -418,7 +418,7 @@ class peephole_sink {
 };
 
 // The lowering rules of the header comment, applied op by op.
-template <int = 0>  // a template so that it is compiled only where used
+template <int Deferred = 0>
 class lowerer {
  public:
   lowerer(std::size_t width, decompose_options o) : n_(width), opt_(o), out_(o.optimize) {}
@@ -519,9 +519,9 @@ class lowerer {
     return acc;
   }
   void uncompute_and(const std::vector<and_step>& steps) {
-    for (auto it = steps.rbegin(); it != steps.rend(); ++it) {
-      and_into(it->a, it->b, it->t);
-      release(it->t);
+    for (std::size_t i = steps.size(); i-- > 0;) {
+      and_into(steps[i].a, steps[i].b, steps[i].t);
+      release(steps[i].t);
     }
   }
 
@@ -586,8 +586,8 @@ class lowerer {
     pos.reserve(cs.size());
     for (const control& c : cs) pos.push_back(c.qubit);
     positive(u, t, pos);
-    for (auto it = cs.rbegin(); it != cs.rend(); ++it)
-      if (!it->value) x(it->qubit);
+    for (std::size_t i = cs.size(); i-- > 0;)
+      if (!cs[i].value) x(cs[i].qubit);
   }
   void positive(const gate1& u, qubit_index t, std::span<const qubit_index> pos) {
     const std::size_t k = pos.size();
@@ -634,8 +634,8 @@ class lowerer {
       body(std::optional<qubit_index>{a});
       uncompute_and(steps);
     }
-    for (auto it = cs.rbegin(); it != cs.rend(); ++it)
-      if (!it->value) x(it->qubit);
+    for (std::size_t i = cs.size(); i-- > 0;)
+      if (!cs[i].value) x(cs[i].qubit);
   }
 
   // Local gates on `qubits`, the conditional ones also controlled by `extra`.
@@ -747,7 +747,7 @@ class lowerer {
 
   std::size_t n_;
   decompose_options opt_;
-  peephole_sink<> out_;
+  peephole_sink<Deferred> out_;
   std::size_t ancillas_ = 0;
   std::vector<qubit_index> free_;
   std::size_t index_ = 0;
@@ -757,9 +757,9 @@ class lowerer {
 
 // decompose(p): an equivalent program of single-qubit gates and CNOTs (rules in the header
 // comment), with clean ancillas appended after p's qubits.
-template <int = 0>
+template <int Deferred = 0>
 inline decomposition_result decompose(const program& p, decompose_options options = {}) {
-  detail::lowerer<> l(p.width(), options);
+  detail::lowerer<Deferred> l(p.width(), options);
   for (std::size_t i = 0; i < p.ops().size(); ++i) l.lower(p.ops()[i], i);
   return l.finish(p.registers());
 }

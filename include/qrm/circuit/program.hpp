@@ -231,8 +231,9 @@ class basic_program {
     basic_program r(width_);
     r.registers_ = registers_;
     r.ops_.reserve(ops_.size());
-    for (auto it = ops_.rbegin(); it != ops_.rend(); ++it) r.ops_.push_back(op_adjoint(*it));
-    r.layers_.assign(layers_.rbegin(), layers_.rend());
+    for (std::size_t i = ops_.size(); i-- > 0;) r.ops_.push_back(op_adjoint(ops_[i]));
+    r.layers_.assign(layers_.size(), nullptr);
+    for (std::size_t i = 0; i < layers_.size(); ++i) r.layers_[i] = layers_[layers_.size() - 1 - i];
     r.layers_.resize(r.ops_.size(), nullptr);
     return r;
   }

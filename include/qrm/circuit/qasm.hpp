@@ -189,7 +189,7 @@ class qasm_writer {
 };
 
 // Gate definitions the logical export needs: one per distinct matrix (k >= 2) and per add.
-template <int = 0>  // a template so that it is compiled only where used
+template <int = 0>
 struct qasm_definitions {
   std::vector<std::pair<dense_matrix, std::string>> unitaries;
   std::map<std::pair<std::size_t, std::uint64_t>, std::string> adds;  // (bits, constant mod 2^bits)
@@ -269,9 +269,9 @@ inline std::string qasm_header(const program& p, const qasm_options& o, const ch
   return s;
 }
 
-template <int = 0>
+template <int Deferred = 0>
 inline std::string to_qasm_logical(const program& p, const qasm_options& o) {
-  qasm_definitions<> defs;
+  qasm_definitions<Deferred> defs;
   std::string body;
   qasm_writer w(body, "", [](qubit_index q) { return "q[" + std::to_string(q) + "]"; });
   for (std::size_t i = 0; i < p.ops().size(); ++i) {
@@ -379,7 +379,7 @@ struct qasm_token {
 [[noreturn]] inline void qasm_fail(const qasm_token& t, const std::string& what) { throw qasm_error(t.line, t.column, what); }
 
 // Tokens on demand (one of lookahead), skipping white space and comments.
-template <int = 0>  // a template so that it is compiled only where used
+template <int = 0>
 class qasm_lexer {
  public:
   explicit qasm_lexer(std::string_view src) : src_(src) {}
@@ -500,7 +500,7 @@ inline constexpr qasm_std_gate qasm_std_gates[] = {
     {"swap", 0, 2}, {"ccx", 0, 3},  {"cswap", 0, 3}, {"cu", 4, 2},  {"CX", 0, 2},     {"phase", 1, 1}, {"cphase", 1, 2},
     {"id", 0, 1},  {"u1", 1, 1},    {"u2", 2, 1},  {"u3", 3, 1}};
 
-template <int = 0>  // a template so that it is compiled only where used
+template <int Deferred = 0>
 class qasm_parser {
  public:
   explicit qasm_parser(std::string_view text) : lex_(text) {}
@@ -1141,7 +1141,7 @@ class qasm_parser {
     }
   }
 
-  qasm_lexer<> lex_;
+  qasm_lexer<Deferred> lex_;
   std::vector<reg> regs_;
   std::size_t width_ = 0;
   bool std_included_ = false;
@@ -1166,7 +1166,7 @@ inline std::string to_qasm(const program& p, qasm_options options = {}) {
 
 // from_qasm(text): the program an OpenQASM 3 text describes (the subset is listed at the top
 // of this header); throws qrm::qasm_error naming the line, the column and what was expected.
-template <int = 0>
-inline program from_qasm(std::string_view text) { return detail::qasm_parser<>(text).parse(); }
+template <int Deferred = 0>
+inline program from_qasm(std::string_view text) { return detail::qasm_parser<Deferred>(text).parse(); }
 
 }  // namespace qrm

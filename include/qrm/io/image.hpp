@@ -72,8 +72,8 @@ class image {
   const rgb& at(std::size_t x, std::size_t y) const { return pixels_[index(x, y)]; }
 
   // pixels(): all pixels, row by row from the top.
-  std::span<rgb> pixels() { return pixels_; }
-  std::span<const rgb> pixels() const { return pixels_; }
+  std::span<rgb> pixels() { return {pixels_.data(), pixels_.size()}; }
+  std::span<const rgb> pixels() const { return {pixels_.data(), pixels_.size()}; }
 
   friend bool operator==(const image&, const image&) = default;
 

@@ -11,13 +11,26 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
-#include <functional>
 #include <mutex>
 #include <thread>
 #include <vector>
 
 namespace qrm::detail {
 
+// chunk_job: a non-owning reference to a callable taking a chunk index. Unlike std::function it
+// instantiates one small trampoline per kernel and never allocates.
+class chunk_job {
+ public:
+  template <class F>
+  chunk_job(const F& f) : object_(&f), call_([](const void* o, std::size_t i) { (*static_cast<const F*>(o))(i); }) {}
+  void operator()(std::size_t i) const { call_(object_, i); }
+
+ private:
+  const void* object_;
+  void (*call_)(const void*, std::size_t);
+};
+
+template <int = 0>
 class thread_pool {
  public:
   explicit thread_pool(unsigned threads) {
@@ -38,7 +51,7 @@ class thread_pool {
   unsigned size() const { return static_cast<unsigned>(workers_.size()) + 1; }
 
   // Calls fn(i) for i in [0, chunks), spread over at most `threads` threads (caller included).
-  void parallel_for(std::size_t chunks, unsigned threads, const std::function<void(std::size_t)>& fn) {
+  void parallel_for(std::size_t chunks, unsigned threads, chunk_job fn) {
     if (chunks == 0) return;
     std::unique_lock<std::mutex> job(job_mutex_, std::try_to_lock);
     const unsigned helpers = std::min<unsigned>(threads > 0 ? threads - 1 : 0, static_cast<unsigned>(workers_.size()));
@@ -88,7 +101,7 @@ class thread_pool {
   std::vector<std::thread> workers_;
   std::mutex mutex_, job_mutex_;
   std::condition_variable wake_, done_;
-  const std::function<void(std::size_t)>* fn_ = nullptr;
+  const chunk_job* fn_ = nullptr;
   std::size_t chunks_ = 0;
   std::atomic<std::size_t> next_{0};
   unsigned active_helpers_ = 0, pending_helpers_ = 0;
@@ -97,8 +110,9 @@ class thread_pool {
 };
 
 // The process-wide pool, sized to the hardware on first use.
-inline thread_pool& shared_pool() {
-  static thread_pool pool(std::max(1u, std::thread::hardware_concurrency()));
+template <int Deferred = 0>
+inline thread_pool<Deferred>& shared_pool() {
+  static thread_pool<Deferred> pool(std::max(1u, std::thread::hardware_concurrency()));
   return pool;
 }
 
