@@ -1,5 +1,7 @@
 // examples/qrm/args.hpp: strict command-line parsing for the qrm tool. Unknown flags, missing
-// values and malformed numbers are errors that name the flag and the value.
+// values and malformed numbers are errors that name the flag and the value. Each command
+// describes its flags in one table (flag_table) that both declares what it accepts and prints
+// its --help, so the help cannot drift from the parser.
 #pragma once
 
 #include <cerrno>
@@ -10,7 +12,6 @@
 #include <set>
 #include <stdexcept>
 #include <string>
-#include <initializer_list>
 #include <vector>
 
 namespace qrm_cli {
@@ -18,6 +19,16 @@ namespace qrm_cli {
 struct usage_error : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// flag: one row of a command's flag table.
+struct flag {
+  const char* name;      // without the leading --
+  const char* value;     // the value's form (N, FILE, a|b|c), or "" for a switch
+  const char* fallback;  // the default as the user would write it, or "" (none, or see meaning)
+  const char* meaning;
+  const char* group;     // the heading --help lists it under
+};
+using flag_table = std::vector<flag>;
 
 class args {
  public:
@@ -39,11 +50,11 @@ class args {
   }
 
   // Declares the flags this command knows; any other flag given is an error.
-  void allow(std::initializer_list<const char*> names) { allow(std::vector<const char*>(names)); }
-  void allow(const std::vector<const char*>& names) {
-    for (const char* n : names) allowed_.insert(n);
+  void allow(const flag_table& flags) {
+    for (const qrm_cli::flag& f : flags) allowed_.insert(f.name);
     for (const auto& [k, v] : values_)
-      if (!allowed_.count(k)) throw usage_error("unknown flag --" + k);
+      if (!allowed_.count(k))
+        throw usage_error("unknown flag --" + k + " (qrm " + command_ + " --help lists the flags)");
   }
 
   bool has(const std::string& name) const { return values_.count(name) != 0; }

@@ -55,8 +55,25 @@ void add_level(json_object& j, const level_report& r) {
 
 }  // namespace
 
+flag_table circuit_flags() {
+  const char* g = "circuit";
+  const char* q = "export";
+  return {
+      {"scene", "NAME|FILE", "", "paper_4x4, paper_8x8 or a 2D scene file (required)", g},
+      {"x", "X", "0", "the start cell's column", g},
+      {"y", "Y", "0", "the start cell's row", g},
+      {"steps", "S", "3", "walk steps, 1..16", g},
+      {"variant", "faithful|history", "faithful", "the paper's circuit, or the one that keeps each step's direction", g},
+      {"prune", "none|scene|reachable", "reachable", "the pruning level reported first and written by --qasm (all levels are listed)", g},
+      {"channel", "C", "0", "colour channel 0, 1, 2 (R, G, B)", g},
+      {"format", "json", "json", "output on stdout", g},
+      {"qasm", "FILE", "", "write the A operator as OpenQASM 3", q},
+      {"decomposed", "", "", "with --qasm: single-qubit gates and CNOTs only", q},
+  };
+}
+
 int cmd_circuit(args& a) {
-  a.allow({"scene", "x", "y", "z", "steps", "variant", "prune", "channel", "format", "qasm", "decomposed"});
+  a.allow(circuit_flags());
   const qrm::scene sc = scene_from_arg(a.required("scene"));
   if (sc.dims() != 2) throw usage_error("--scene must be a 2D scene (3D circuits: qrm render --estimator quantum)");
   const auto n = static_cast<std::int64_t>(sc.size()) - 1;

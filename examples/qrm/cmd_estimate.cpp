@@ -15,25 +15,8 @@ namespace qrm_cli {
 
 namespace {
 
-const char* const estimate_usage =
-    "usage: qrm estimate --probability P [--estimator NAME] [flags] [--format json|text]\n"
-    "  Estimates a Bernoulli amplitude: A = Ry(2 asin sqrt P) on one qubit, good = the qubit is 1.\n"
-    "  --estimator NAME         fae (default) | iqae | mlae | canonical | qcoin | mc\n"
-    "  --probability P          the amplitude to estimate, in [0, 1] (required)\n"
-    "  --exact-probabilities    use the exact probabilities instead of shot frequencies\n"
-    "  --seed S                 generator seed, integer >= 0 (default 1)\n"
-    "  --format json|text       output format (default json)\n"
-    "  --help                   print this and exit\n"
-    "  fae:       --delta D (0.01), --maxiter L (5), --rescale (default) | --no-rescale\n"
-    "  iqae:      --epsilon E (0.01), --alpha A (0.05), --shots N per round (100), --interval cp|ch (cp)\n"
-    "  mlae:      --alpha A (0.05), --shots N per power (100), --schedule exponential|linear (exponential),\n"
-    "             --m M (5: powers 0,1,2,..,2^(M-1), M <= 30; or 0,1,..,M, M <= 256)\n"
-    "  canonical: --alpha A (0.05), --shots N (100), --evaluation-qubits M (5, at most 12)\n"
-    "  qcoin:     --alpha A (0.05), --shots N per step (100), --steps K (4)\n"
-    "  mc:        --alpha A (0.05), --shots N (1000)\n";
-
 [[noreturn]] void fail(const std::string& message) {
-  throw usage_error(message + "\n" + estimate_usage);
+  throw usage_error(message + " (qrm estimate --help lists the flags)");
 }
 
 std::string json_string(const std::string& s) {
@@ -58,17 +41,24 @@ std::string num(std::uint64_t x) {
 
 }  // namespace
 
+flag_table estimate_flags() {
+  const char* g = "problem: A = Ry(2 asin sqrt P) on one qubit, good = the qubit is 1";
+  const char* o = "run and output";
+  flag_table f = {
+      {"probability", "P", "", "the amplitude to estimate, in [0, 1] (required)", g},
+      {"exact-probabilities", "", "", "use the exact outcome probabilities instead of shot frequencies", o},
+      {"seed", "S", "1", "random seed, integer >= 0", o},
+      {"format", "json|text", "json", "output on stdout", o},
+  };
+  for (const flag& e : estimator_flag_table("steps")) f.push_back(e);
+  return f;
+}
+
 int cmd_estimate(args& a) {
   try {
-    a.allow({"estimator", "probability", "delta", "maxiter", "rescale", "no-rescale", "epsilon", "alpha", "shots",
-             "interval", "schedule", "m", "evaluation-qubits", "steps", "exact-probabilities", "seed", "format",
-             "help"});
+    a.allow(estimate_flags());
   } catch (const usage_error& e) {
     fail(e.what());
-  }
-  if (a.has("help")) {
-    std::fputs(estimate_usage, stdout);
-    return 0;
   }
   double p = 0;
   std::uint64_t seed = 1;
@@ -85,7 +75,7 @@ int cmd_estimate(args& a) {
     if (format != "json" && format != "text") fail("estimate: --format must be json or text, got '" + format + "'");
     exact = a.flag("exact-probabilities");
   } catch (const usage_error& e) {
-    if (std::string(e.what()).find("usage:") != std::string::npos) throw;
+    if (std::string(e.what()).find("--help lists") != std::string::npos) throw;
     fail(e.what());
   }
   est.settings.exact_probabilities = exact;

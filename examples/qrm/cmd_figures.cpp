@@ -73,8 +73,19 @@ void write_curves(const fs::path& dir, const std::string& base, const std::strin
 
 }  // namespace
 
+flag_table figures_flags() {
+  const char* g = "figures";
+  return {
+      {"out", "DIR", "figures", "output directory (created)", g},
+      {"quick", "", "", "smaller images and sweeps (for tests; minutes become seconds)", g},
+      {"seed", "S", "1", "random seed, integer >= 0", g},
+      {"threads", "T", "0", "worker threads; 0 = all cores (the result does not depend on it)", g},
+      {"quiet", "", "", "no progress on stderr", g},
+  };
+}
+
 int cmd_figures(args& a) {
-  a.allow({"out", "quick", "threads", "seed", "quiet"});
+  a.allow(figures_flags());
   const bool quick = a.flag("quick");
   render_settings s;
   s.out = a.str("out", "figures");

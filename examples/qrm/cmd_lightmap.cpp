@@ -9,8 +9,21 @@
 
 namespace qrm_cli {
 
+flag_table lightmap_flags() {
+  const char* g = "light map";
+  return {
+      {"scene", "NAME|FILE", "", "paper_4x4, paper_8x8 or a 2D scene file (required)", g},
+      {"exact", "", "", "exact probabilities from the simulated state (required: estimated maps are qrm render's)", g},
+      {"steps", "S", "3", "walk steps, 1..12", g},
+      {"prune", "none|scene|reachable", "reachable", "drop the coin entries and qubits the scene never uses", g},
+      {"backend", "dense|compact", "compact", "state vector over all qubits, or only the reachable basis states", g},
+      {"format", "csv|json", "csv", "output on stdout", g},
+      {"threads", "T", "0", "worker threads; 0 = all cores", g},
+  };
+}
+
 int cmd_lightmap(args& a) {
-  a.allow({"scene", "steps", "exact", "backend", "format", "prune", "threads"});
+  a.allow(lightmap_flags());
   const qrm::scene sc = scene_from_arg(a.required("scene"));
   if (sc.dims() != 2) throw usage_error("--scene must be a 2D scene (3D scenes: qrm render)");
   if (!a.flag("exact"))

@@ -58,8 +58,17 @@ manifest parse_manifest(const fs::path& p) {
 
 }  // namespace
 
+flag_table merge_flags() {
+  const char* g = "merge";
+  return {
+      {"parts", "DIR", "", "the directory the tiles were rendered into (required)", g},
+      {"out", "DIR", "the --parts directory", "where the merged images go", g},
+      {"exposure", "X", "1", "multiply radiance by X before tone mapping the PNGs", g},
+  };
+}
+
 int cmd_merge(args& a) {
-  a.allow({"parts", "out", "exposure"});
+  a.allow(merge_flags());
   const fs::path parts = a.required("parts");
   if (!fs::is_directory(parts)) throw usage_error("--parts: '" + parts.string() + "' is not a directory");
   render_settings s;

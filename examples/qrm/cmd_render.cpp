@@ -12,10 +12,40 @@
 
 namespace qrm_cli {
 
+flag_table render_flags() {
+  const char* scene = "scene";
+  const char* img = "3D images";
+  const char* run = "run and output";
+  flag_table f = {
+      {"scene", "NAME|FILE", "paper_8x8", "paper_4x4, paper_8x8 (2D light maps), cornell, spheres (3D), or a scene file", scene},
+      {"voxels", "N", "8", "cornell, spheres: N^3 voxels, a power of two in 4..256", scene},
+      {"steps", "S", "3 in 2D, 6 in 3D", "walk steps (1..16)", scene},
+      {"width", "N", "128", "image width in pixels (1..8192)", img},
+      {"height", "N", "128", "image height in pixels (1..8192)", img},
+      {"directions", "D", "15", "directions, 6..256: 6, 14, 26 = the symmetric cube sets, any other D = a golden spiral (the authors used 15)", img},
+      {"fractional-bits", "F", "3", "sub-voxel position bits (1..8; the authors used 3)", img},
+      {"method", "LIST", "all", "comma-separated: exact, mc, emulated, quantum; all = exact,mc,emulated", img},
+      {"paths", "K", "32", "paths per pixel for mc and emulated (the paper's 32)", img},
+      {"grover", "auto|simulated|analytic", "auto",
+       "apply every Grover iteration to the state, or read P(out=1) once and use the sin^2 law; "
+       "auto: simulated in 2D, analytic in 3D",
+       img},
+      {"out", "DIR", "out", "output directory (created)", run},
+      {"tile", "I/N", "", "render only tile I of N (0 <= I < N); put the tiles together with qrm merge", run},
+      {"seed", "S", "1", "random seed (integer >= 0); pixel p uses stream (S, p)", run},
+      {"threads", "T", "0", "worker threads; 0 = all cores (the result does not depend on it)", run},
+      {"exposure", "X", "1", "multiply radiance by X before tone mapping the PNGs", run},
+      {"quiet", "", "", "no progress on stderr", run},
+  };
+  for (const flag& e : estimator_flag_table("ae-steps")) f.push_back(e);
+  return f;
+}
+
 int cmd_render(args& a) {
   a.allow(render_flags());
   const render_settings s = parse_render_settings(a);
   const qrm::scene sc = load_render_scene(s);
+  check_render_flags_apply(a, s, sc);
   qrm::io::ensure_directory(s.out);
   std::string summary;
   if (sc.dims() == 2) {

@@ -176,8 +176,18 @@ std::string cell_or_dash(const std::optional<std::size_t>& v) {
 
 }  // namespace
 
+flag_table scaling_flags() {
+  const char* g = "scaling";
+  return {
+      {"out", "DIR", "", "output directory for the CSV, Markdown and SVG plots (required)", g},
+      {"start", "near_light|centre", "near_light", "the walk's start cell in each scene", g},
+      {"no-decompose", "", "", "skip the decomposed (1-qubit + CNOT) counts, the slow part", g},
+      {"quiet", "", "", "no progress on stderr", g},
+  };
+}
+
 int cmd_scaling(args& a) {
-  a.allow({"out", "start", "no-decompose", "quiet"});
+  a.allow(scaling_flags());
   const std::filesystem::path out = a.required("out");
   const std::string start_name = a.str("start", "near_light");
   qrm::scaling_start where = qrm::scaling_start::near_light;

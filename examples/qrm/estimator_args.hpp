@@ -14,10 +14,26 @@
 
 namespace qrm_cli {
 
-// Flags any estimator may take (for args::allow).
-inline constexpr const char* estimator_flags[] = {"estimator", "delta", "maxiter", "rescale",  "no-rescale",
-                                                  "epsilon",   "alpha", "shots",   "interval", "schedule",
-                                                  "m",         "evaluation-qubits", "ae-steps"};
+// The estimator flags, for a command's flag table. `qcoin_steps` names qcoin's step count (render
+// has its own --steps).
+inline flag_table estimator_flag_table(const char* qcoin_steps) {
+  const char* g = "amplitude estimation (a flag of another estimator is an error)";
+  return {
+      {"estimator", "fae|iqae|mlae|canonical|qcoin|mc", "fae", "the amplitude estimator", g},
+      {"delta", "D", "0.01", "fae: failure probability of each Chernoff interval, in (0, 1)", g},
+      {"maxiter", "L", "5", "fae: rounds (1..40); the largest Grover power is 2^(L-1)", g},
+      {"rescale", "", "on", "fae: rescale the amplitude (the paper's setting)", g},
+      {"no-rescale", "", "", "fae: do not rescale", g},
+      {"epsilon", "E", "0.01", "iqae: target half-width of the interval, in (0, 0.5]", g},
+      {"alpha", "A", "0.05", "iqae, mlae, canonical, qcoin, mc: the interval fails with probability <= A", g},
+      {"shots", "N", "100 (mc: 1000)", "shots per round (iqae), per power (mlae), per step (qcoin), in all (canonical, mc)", g},
+      {"interval", "cp|ch", "cp", "iqae: Clopper-Pearson or Chernoff-Hoeffding intervals", g},
+      {"schedule", "exponential|linear", "exponential", "mlae: Grover powers 0, 2^0..2^(M-1) or 0, 1..M", g},
+      {"m", "M", "5", "mlae: the number of powers (exponential: M <= 30; linear: M <= 256)", g},
+      {"evaluation-qubits", "M", "5", "canonical: phase-estimation qubits, 1..12", g},
+      {qcoin_steps, "K", "4", "qcoin: steps (Grover counts 0, 1, 2, .., 2^(K-2)), 1..16", g},
+  };
+}
 
 struct parsed_estimator {
   qrm::estimator_settings settings;

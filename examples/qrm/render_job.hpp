@@ -64,15 +64,6 @@ struct render_settings {
   bool tiled() const { return part.count > 1; }
 };
 
-// The flags `qrm render` takes (estimator flags too).
-inline std::vector<const char*> render_flags() {
-  std::vector<const char*> f = {"scene",  "width", "height", "voxels", "directions", "fractional-bits",
-                                "steps",  "paths", "method", "grover", "seed",       "out",
-                                "tile",   "threads", "quiet", "exposure"};
-  for (const char* e : estimator_flags) f.push_back(e);
-  return f;
-}
-
 inline qrm::render::tile parse_tile(const std::string& v) {
   const auto slash = v.find('/');
   auto bad = [&] { return usage_error("--tile must be i/n with 0 <= i < n (e.g. 0/4), got '" + v + "'"); };
@@ -139,6 +130,33 @@ inline qrm::scene load_render_scene(const render_settings& s) {
   if (s.scene == "cornell") return qrm::render::cornell_box(s.voxels);
   if (s.scene == "spheres") return qrm::render::two_spheres(s.voxels);
   return scene_from_arg(s.scene, "paper_4x4, paper_8x8, cornell, spheres");
+}
+
+// Flags that do not apply to the scene or the methods chosen are errors, never silently ignored.
+inline void check_render_flags_apply(const args& a, const render_settings& s, const qrm::scene& sc) {
+  const std::string scene = "--scene " + s.scene;
+  if (sc.dims() == 2) {
+    for (const char* f : {"width", "height", "voxels", "directions", "fractional-bits", "paths", "method"})
+      if (a.has(f))
+        throw usage_error(std::string("--") + f + " applies to 3D scenes; " + scene +
+                          " is a 2D light map (one amplitude estimate per cell and channel)");
+    return;
+  }
+  if (a.has("voxels") && s.scene != "cornell" && s.scene != "spheres")
+    throw usage_error("--voxels sets the size of the built-in 3D scenes (cornell, spheres); the scene file " +
+                      s.scene + " has its own size (" + std::to_string(sc.size()) + ")");
+  const bool sampled = wants(s, "mc") || wants(s, "emulated");
+  const bool estimated = wants(s, "emulated") || wants(s, "quantum");
+  if (a.has("paths") && !sampled)
+    throw usage_error("--paths applies to --method mc and emulated; --method " + s.methods + " samples no paths");
+  if (a.has("grover") && !wants(s, "quantum"))
+    throw usage_error("--grover applies to 2D light maps and --method quantum; --method " + s.methods +
+                      " runs no walk circuit");
+  if (!estimated)
+    for (const flag& f : estimator_flag_table("ae-steps"))
+      if (a.has(f.name))
+        throw usage_error(std::string("--") + f.name + " applies to --method emulated and quantum (amplitude " +
+                          "estimation); --method " + s.methods + " estimates no amplitudes");
 }
 
 // ---- outputs ----------------------------------------------------------------------------------
