@@ -1,5 +1,6 @@
-# cmake -DSRC=dir -DBIN=dir -DARGS=list [-DINSTALL_FROM=build -DPREFIX=dir] -P build_consumer.cmake
-# Configures, builds and runs a small project that uses qrm (optionally installing qrm first).
+# cmake -DSRC=dir -DBIN=dir -DARGS=list [-DINSTALL_FROM=build -DPREFIX=dir [-DTOOL=bin/qrm]] -P build_consumer.cmake
+# Configures, builds and runs a small project that uses qrm (optionally installing qrm first, and
+# then running the installed tool, TOOL relative to the prefix, with --version and --help).
 function(run)
   execute_process(COMMAND ${ARGV} RESULT_VARIABLE rv OUTPUT_VARIABLE out ERROR_VARIABLE out)
   if(NOT rv EQUAL 0)
@@ -10,6 +11,14 @@ file(REMOVE_RECURSE ${BIN})
 if(INSTALL_FROM)
   file(REMOVE_RECURSE ${PREFIX})
   run(${CMAKE_COMMAND} --install ${INSTALL_FROM} --prefix ${PREFIX})
+  if(TOOL)
+    execute_process(COMMAND ${PREFIX}/${TOOL} --version RESULT_VARIABLE rv OUTPUT_VARIABLE out ERROR_VARIABLE out)
+    if(NOT rv EQUAL 0 OR NOT out MATCHES "^qrm [0-9]+\\.[0-9]+\\.[0-9]+")
+      message(FATAL_ERROR "the installed tool ${PREFIX}/${TOOL} --version: exit ${rv}: ${out}")
+    endif()
+    run(${PREFIX}/${TOOL} render --help)
+    message(STATUS "installed tool: ${out}")
+  endif()
 endif()
 run(${CMAKE_COMMAND} -S ${SRC} -B ${BIN} ${ARGS})
 run(${CMAKE_COMMAND} --build ${BIN})

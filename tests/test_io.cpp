@@ -33,6 +33,8 @@
 #include <thread>
 #include <vector>
 
+#include <csignal>
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -695,6 +697,55 @@ TEST_CASE("atomic writes: missing directories are created, failures leave nothin
 
   CHECK(contains(error_of([] { write_file_atomically("", "x"); }), "empty"));
   CHECK(contains(error_of([&] { write_file_atomically(keep / "", "x"); }), "does not name a file"));
+}
+
+// Runs a child that starts writing `target` and sends itself `sig` halfway; returns the child's
+// wait status. With `handlers`, the child first calls remove_temporary_files_on_signals().
+static int interrupted_write(const fs::path& target, int sig, bool handlers) {
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    if (handlers)
+      remove_temporary_files_on_signals();
+    else
+      std::signal(sig, SIG_DFL);  // not doctest's crash reporter: the default action, as in a plain program
+    write_file_atomically(target, [&](file_sink& out) {
+      out.write(std::string(1 << 20, 'p'));
+      bool temp_exists = false;  // the signal must find a temporary file to remove
+      for (const auto& e : fs::directory_iterator(target.parent_path()))
+        temp_exists = temp_exists || e.path().filename().string().ends_with(".tmp");
+      if (!temp_exists) ::_exit(3);
+      ::raise(sig);
+      out.write(std::string(1 << 20, 'q'));
+    });
+    ::_exit(4);  // the signal did not stop the write
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return status;
+}
+
+TEST_CASE("atomic writes: SIGTERM, SIGINT or SIGHUP mid-write removes the temporary file, exit 128 + signal") {
+  for (int sig : {SIGTERM, SIGINT, SIGHUP}) {
+    CAPTURE(sig);
+    const fs::path dir = scratch("atomic_signal_" + std::to_string(sig));
+    write_file_atomically(dir / "image.pfm", "old content");
+    const int status = interrupted_write(dir / "image.pfm", sig, true);
+    REQUIRE(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 128 + sig);
+    CHECK(names_in(dir) == std::vector<std::string>{"image.pfm"});
+    CHECK(slurp(dir / "image.pfm") == "old content");
+  }
+  // Without the handlers the signal kills the writer and its temporary file stays: what the
+  // handlers are for (and proof that the check above can fail).
+  const fs::path dir = scratch("atomic_signal_default");
+  const int status = interrupted_write(dir / "image.pfm", SIGTERM, false);
+  REQUIRE(WIFSIGNALED(status));
+  CHECK(WTERMSIG(status) == SIGTERM);
+  const auto left = names_in(dir);
+  REQUIRE(left.size() == 1);
+  CHECK(left[0].ends_with(".tmp"));
 }
 
 TEST_CASE("atomic writes: a concurrent reader sees the old or the new content, never a mixture") {

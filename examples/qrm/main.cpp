@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include <qrm/io/atomic_file.hpp>
 #include <qrm/version.hpp>
 
 #include "commands.hpp"
@@ -89,6 +90,8 @@ int unknown_command(const std::string& name) {
 
 int main(int argc, char** argv) {
   using namespace qrm_cli;
+  // SIGINT, SIGTERM, SIGHUP: remove the temporary files of writes in flight, exit 130, 143, 129.
+  qrm::io::remove_temporary_files_on_signals();
   if (argc < 2) {
     print_usage(stderr);
     return 2;

@@ -8,6 +8,12 @@
 // std::runtime_error naming the path and the reason (the errno text); an exception thrown by the
 // writer callback is rethrown unchanged after the clean-up. (On POSIX, rename replaces an
 // existing target atomically; other systems are not supported by this header's guarantees.)
+//
+// Signals: remove_temporary_files_on_signals() (called once by a program, e.g. the qrm tool)
+// makes SIGINT, SIGTERM and SIGHUP remove every temporary file still being written and exit
+// with 128 + the signal number (130, 143, 129), so an interrupted run leaves no ".tmp" files.
+// Temporary files are registered in a fixed table (64 at a time, paths up to 4095 bytes) that
+// the handler reads with async-signal-safe calls only.
 #pragma once
 
 #include <atomic>
@@ -24,6 +30,7 @@
 
 #if defined(__unix__) || defined(__APPLE__)
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 #define QRM_IO_POSIX 1
 #else
@@ -61,9 +68,82 @@ inline void sync_directory(const std::filesystem::path& dir) {
 #endif
 }
 
+// The temporary files being written, for the signal handler. A slot is claimed with an atomic
+// exchange, filled, then published; the handler reads only published slots.
+struct temp_file_slot {
+  std::atomic<int> state{0};  // 0 free, 1 being filled or cleared, 2 published
+  char path[4096] = {};
+};
+inline temp_file_slot temp_file_slots[64];
+
+// Registers `path`; returns the slot, or -1 when the table is full or the path too long (the file
+// is then still removed on every error, only not on a signal).
+inline int register_temp_file(const std::string& path) {
+  if (path.size() >= sizeof temp_file_slots[0].path) return -1;
+  for (int i = 0; i < 64; ++i) {
+    int expected = 0;
+    if (!temp_file_slots[i].state.compare_exchange_strong(expected, 1)) continue;
+    path.copy(temp_file_slots[i].path, path.size());
+    temp_file_slots[i].path[path.size()] = '\0';
+    temp_file_slots[i].state.store(2, std::memory_order_release);
+    return i;
+  }
+  return -1;
+}
+
+inline void unregister_temp_file(int slot) {
+  if (slot >= 0) temp_file_slots[slot].state.store(0, std::memory_order_release);
+}
+
+// Async-signal-safe: unlink every published temporary file.
+inline void remove_registered_temp_files() {
+#if QRM_IO_POSIX
+  for (temp_file_slot& s : temp_file_slots)
+    if (s.state.load(std::memory_order_acquire) == 2) (void)::unlink(s.path);
+#endif
+}
+
+#if QRM_IO_POSIX
+// Blocks SIGINT, SIGTERM and SIGHUP for the calling thread while it lives.
+class signals_blocked {
+ public:
+  signals_blocked() {
+    sigset_t set;
+    sigemptyset(&set);
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&set, sig);
+    (void)::pthread_sigmask(SIG_BLOCK, &set, &old_);
+  }
+  ~signals_blocked() { (void)::pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
+  signals_blocked(const signals_blocked&) = delete;
+  signals_blocked& operator=(const signals_blocked&) = delete;
+
+ private:
+  sigset_t old_;
+};
+
+inline void remove_temp_files_and_exit(int sig) {
+  remove_registered_temp_files();
+  ::_exit(128 + sig);
+}
+#else
+struct signals_blocked {};
+#endif
+
 }  // namespace qrm::detail
 
 namespace qrm::io {
+
+// remove_temporary_files_on_signals(): SIGINT, SIGTERM and SIGHUP remove the temporary files of
+// writes in flight and exit with 128 + the signal (see the header comment). POSIX only; a no-op
+// elsewhere.
+inline void remove_temporary_files_on_signals() {
+#if QRM_IO_POSIX
+  struct sigaction sa {};
+  sa.sa_handler = detail::remove_temp_files_and_exit;
+  sigemptyset(&sa.sa_mask);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) (void)::sigaction(sig, &sa, nullptr);
+#endif
+}
 
 // file_sink: what a writer callback writes into. Every failed write throws std::runtime_error
 // naming the file being written and the errno text.
@@ -128,23 +208,34 @@ void write_file_atomically(const std::filesystem::path& target, Writer&& writer)
   const std::filesystem::path dir = target.parent_path();
   std::filesystem::path temp;
   std::FILE* f = nullptr;
-  // "x" (C11, exclusive create) refuses an existing file, so a stale temporary file from a
-  // crashed process is never reused or clobbered; a collision just takes the next counter.
-  for (int attempt = 0; attempt < 100 && f == nullptr; ++attempt) {
-    const std::uint64_t n = detail::temp_file_counter.fetch_add(1);
-    std::string name = ".";
-    name.append(target.filename().string()).append(".").append(std::to_string(detail::process_id()));
-    name.append(".").append(std::to_string(n)).append(".tmp");
-    temp = dir / name;
-    errno = 0;
-    f = std::fopen(temp.string().c_str(), "wbx");
-    if (f == nullptr && errno != EEXIST) break;
+  int slot = -1;
+  {
+    // Signals wait while the file is created and registered, so none can leave it behind.
+    const detail::signals_blocked quiet;
+    // "x" (C11, exclusive create) refuses an existing file, so a stale temporary file from a
+    // crashed process is never reused or clobbered; a collision just takes the next counter.
+    for (int attempt = 0; attempt < 100 && f == nullptr; ++attempt) {
+      const std::uint64_t n = detail::temp_file_counter.fetch_add(1);
+      std::string name = ".";
+      name.append(target.filename().string()).append(".").append(std::to_string(detail::process_id()));
+      name.append(".").append(std::to_string(n)).append(".tmp");
+      temp = dir / name;
+      errno = 0;
+      f = std::fopen(temp.string().c_str(), "wbx");
+      if (f == nullptr && errno != EEXIST) break;
+    }
+    if (f != nullptr) slot = detail::register_temp_file(temp.string());
   }
   if (f == nullptr) {
     const int err = errno;
     throw std::runtime_error("cannot create temporary file '" + temp.string() + "' for '" + target.string() +
                              "': " + detail::errno_text(err));
   }
+  // Unregistered after the rename or the removal; a signal in between unlinks a name that is gone.
+  struct registration {
+    int slot;
+    ~registration() { detail::unregister_temp_file(slot); }
+  } registered{slot};
 
   auto fail = [&](const std::string& what, int err) {
     if (f != nullptr) std::fclose(f);
