@@ -78,6 +78,40 @@ TEST_CASE("format_scene and parse_scene round-trip exactly, 2D and 3D") {
   CHECK(e.at(1, 1, 1).emission == qrm::rgb{2, 2, 2});
 }
 
+TEST_CASE("a 3D scene's camera block: parsed, defaults, written back exactly, refused where wrong") {
+  const std::string head = "qrm-scene 1\ndims 3\nsize 4\nfill 0 0 0 3 0 3 L 0 1 0 rho 0.5 0.5 0.5\n";
+  const qrm::scene plain = qrm::parse_scene(head, "plain");
+  CHECK_FALSE(plain.view().has_value());
+  const qrm::scene a = qrm::parse_scene(head + "camera look_at 2 0 2 position 2 3 -4.25\n", "cam");
+  REQUIRE(a.view().has_value());
+  CHECK(a.view()->position == qrm::vec3{2, 3, -4.25});
+  CHECK(a.view()->look_at == qrm::vec3{2, 0, 2});
+  CHECK(a.view()->up == qrm::vec3{0, 1, 0});           // the default
+  CHECK(a.view()->vertical_fov_degrees == 39.3);       // the default
+  const qrm::scene b = qrm::parse_scene(head + "camera position 0.1 0.2 0.3 look_at 1 1 1 up 0 0 1 fov 72.5\n", "cam2");
+  CHECK(b.view()->up == qrm::vec3{0, 0, 1});
+  CHECK(b.view()->vertical_fov_degrees == 72.5);
+  const qrm::scene c = qrm::parse_scene(qrm::format_scene(b), "roundtrip");
+  CHECK(c.view() == b.view());
+  auto error = [&](const std::string& camera_line) {
+    try {
+      (void)qrm::parse_scene(head + camera_line + "\n", "bad.txt");
+    } catch (const qrm::scene_parse_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  CHECK(error("camera position 0 0 0 look_at 0 0 0") == "bad.txt:5: camera: look_at equals position");
+  CHECK(error("camera position 0 0 0 look_at 0 1 0") == "bad.txt:5: camera: up is zero or parallel to the view direction");
+  CHECK(error("camera position 0 0 0 look_at 0 0 1 fov 0") == "bad.txt:5: camera: fov must be in (0, 180) degrees, got 0");
+  CHECK(error("camera position 0 0 0 look_at 0 0 1 fov nan") == "bad.txt:5: fov: nan is not finite");
+  CHECK(error("camera position 0 0 look_at 0 0 1").find("bad.txt:5: position: 'look_at' is not a number") == 0);
+  CHECK(error("camera position 0 0 0 look_at 0 0 1 zoom 2").find("bad.txt:5: camera: unknown word 'zoom'") == 0);
+  CHECK(error("camera position 0 0 0 position 1 1 1 look_at 0 0 1") == "bad.txt:5: camera: 'position' given twice");
+  CHECK(error("camera position 0 0 0 look_at 0 0 1\ncamera position 0 0 0 look_at 0 0 1") ==
+        "bad.txt:6: 'camera' given twice");
+}
+
 TEST_CASE("malformed scene files are rejected with the line and the problem") {
   auto err = [](const std::string& text) { return error_of([&] { qrm::parse_scene(text, "s.txt"); }); };
   CHECK(err("") == "s.txt:1: empty scene file (expected 'qrm-scene 1')");

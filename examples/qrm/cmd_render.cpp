@@ -46,6 +46,7 @@ int cmd_render(args& a) {
   const render_settings s = parse_render_settings(a);
   const qrm::scene sc = load_render_scene(s);
   check_render_flags_apply(a, s, sc);
+  if (sc.dims() == 3) (void)scene_camera(s, sc);  // refuse a scene the camera cannot see before creating anything
   qrm::io::ensure_directory(s.out);
   std::string summary;
   if (sc.dims() == 2) {

@@ -295,10 +295,21 @@ struct image3d_summary {
   std::vector<std::string> written;
 };
 
+// The camera a 3D scene is seen through: its file's camera block, else the Cornell box's.
+inline qrm::render::camera scene_camera(const render_settings& s, const qrm::scene& sc) {
+  if (const auto& v = sc.view())
+    return qrm::render::camera(v->position, v->look_at, v->up, v->vertical_fov_degrees, s.width, s.height);
+  if (sc.size() < 8)
+    throw usage_error("--scene " + s.scene + " is " + std::to_string(sc.size()) +
+                      "^3 voxels and has no camera block; the default (Cornell box) camera needs at least 8^3. "
+                      "Add a line 'camera position X Y Z look_at X Y Z' (README: scene files)");
+  return qrm::render::box_scene_camera(sc.size(), s.width, s.height);
+}
+
 inline image3d_summary render_images_3d(const render_settings& s, const qrm::scene& sc) {
   const unsigned steps = s.effective_steps(3);
   const qrm::walk_model model(sc, qrm::sphere_directions(s.directions, s.fractional_bits));
-  const qrm::render::camera cam = qrm::render::box_scene_camera(sc.size(), s.width, s.height);
+  const qrm::render::camera cam = scene_camera(s, sc);
   qrm::render::render_options ro;
   ro.steps = steps;
   ro.threads = s.threads;

@@ -19,6 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // Accepted: it must validate and survive a round trip unchanged.
   s.validate();
   const qrm::scene again = qrm::parse_scene(qrm::format_scene(s), "roundtrip");
-  if (!(again.voxels() == s.voxels()) || again.size() != s.size() || again.dims() != s.dims()) std::abort();
+  if (!(again.voxels() == s.voxels()) || again.size() != s.size() || again.dims() != s.dims() || again.view() != s.view())
+    std::abort();
   return 0;
 }

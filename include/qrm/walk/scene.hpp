@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -62,6 +63,16 @@ struct voxel {
   bool operator==(const voxel&) const = default;
 };
 
+// scene_view: the camera a 3D scene file may carry, in voxel units (voxel (x, y, z) fills
+// [x, x+1) x [y, y+1) x [z, z+1)); the renderer turns it into a pinhole camera of any image size.
+struct scene_view {
+  vec3 position{0, 0, 0};
+  vec3 look_at{0, 0, 1};
+  vec3 up{0, 1, 0};
+  double vertical_fov_degrees = 39.3;
+  bool operator==(const scene_view&) const = default;
+};
+
 class scene {
  public:
   scene() = default;
@@ -83,6 +94,9 @@ class scene {
   void set_name(std::string n) { name_ = std::move(n); }
   unsigned dims() const { return dims_; }
   unsigned size() const { return size_; }
+  // view(): the scene's own camera, if its file gave one (3D only).
+  const std::optional<scene_view>& view() const { return view_; }
+  void set_view(const scene_view& v) { view_ = v; }
   unsigned position_bits() const { return bits_; }  // P, with N = 2^P
   std::size_t voxel_count() const { return voxels_.size(); }
 
@@ -163,6 +177,7 @@ class scene {
   std::string name_;
   unsigned dims_ = 2, size_ = 2, bits_ = 1;
   std::vector<voxel> voxels_;
+  std::optional<scene_view> view_;
 };
 
 }  // namespace qrm

@@ -14,6 +14,12 @@
 //   voxel X Y [Z] KIND [NORMAL] [rho C] [le C]
 //   fill X0 Y0 [Z0] X1 Y1 [Z1] KIND [NORMAL] [rho C] [le C]     (inclusive box)
 //                                 (rho is required for non-air voxels; le defaults to 0)
+//   camera position X Y Z look_at X Y Z [up X Y Z] [fov DEGREES]
+//                                 3D only: where the renderer looks from, in voxel units (voxel
+//                                 (x, y, z) fills [x, x+1) x [y, y+1) x [z, z+1)); up defaults
+//                                 to 0 1 0, fov (vertical, degrees, in (0, 180)) to 39.3. Without
+//                                 it, 3D files of size >= 8 use the Cornell box's camera: at the
+//                                 open -z side looking along +z, +y up, +x on the image's left.
 //
 // KIND is air, L, B or S (or lambertian, boundary, specular); NORMAL is an index 0..7 in 2D
 // and three numbers in 3D (normalised on reading); a colour C is a name or three numbers.
@@ -102,6 +108,11 @@ class scene_parser {
       } else if (key == "voxel" || key == "fill") {
         need_scene(have_scene, key);
         read_voxels(s, t, key == "fill");
+      } else if (key == "camera") {
+        need_scene(have_scene, key);
+        if (dims != 3) fail("'camera' is for 3D scenes (a 2D scene is a light map, not seen through a camera)");
+        if (s.view()) fail("'camera' given twice");
+        s.set_view(read_camera(t));
       } else {
         fail("unknown statement '" + key + "'");
       }
@@ -193,6 +204,43 @@ class scene_parser {
     static const int dxy[8][2] = {{0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}};
     v.normal_index = static_cast<int>(n);
     v.normal = normalized({double(dxy[n][0]), double(dxy[n][1]), 0.0});
+  }
+  // camera position X Y Z look_at X Y Z [up X Y Z] [fov DEGREES]
+  scene_view read_camera(const std::vector<std::string>& t) const {
+    const char* form = "camera position X Y Z look_at X Y Z [up X Y Z] [fov DEGREES]";
+    scene_view v;
+    bool have_position = false, have_look_at = false, have_up = false, have_fov = false;
+    auto triple = [&](std::size_t i, const std::string& what) {
+      if (i + 3 > t.size()) fail("'" + what + "' needs three numbers (" + form + ")");
+      return vec3{number(t[i], what), number(t[i + 1], what), number(t[i + 2], what)};
+    };
+    auto once = [&](bool& seen, const std::string& what) {
+      if (seen) fail("camera: '" + what + "' given twice");
+      seen = true;
+    };
+    for (std::size_t i = 1; i < t.size();) {
+      const std::string& k = t[i];
+      if (k == "position" || k == "look_at" || k == "up") {
+        once(k == "position" ? have_position : k == "look_at" ? have_look_at : have_up, k);
+        (k == "position" ? v.position : k == "look_at" ? v.look_at : v.up) = triple(i + 1, k);
+        i += 4;
+      } else if (k == "fov") {
+        once(have_fov, k);
+        if (i + 1 >= t.size()) fail("'fov' needs a number of degrees (" + std::string(form) + ")");
+        v.vertical_fov_degrees = number(t[i + 1], "fov");
+        if (!(v.vertical_fov_degrees > 0 && v.vertical_fov_degrees < 180))
+          fail("camera: fov must be in (0, 180) degrees, got " + t[i + 1]);
+        i += 2;
+      } else {
+        fail("camera: unknown word '" + k + "' (" + form + ")");
+      }
+    }
+    if (!have_position || !have_look_at) fail(std::string("camera needs position and look_at (") + form + ")");
+    const vec3 f{v.look_at[0] - v.position[0], v.look_at[1] - v.position[1], v.look_at[2] - v.position[2]};
+    if (!(norm(f) > 0)) fail("camera: look_at equals position");
+    const vec3 r{f[1] * v.up[2] - f[2] * v.up[1], f[2] * v.up[0] - f[0] * v.up[2], f[0] * v.up[1] - f[1] * v.up[0]};
+    if (!(norm(r) > 1e-9 * norm(f) * norm(v.up))) fail("camera: up is zero or parallel to the view direction");
+    return v;
   }
   rgb read_color(const std::vector<std::string>& t, std::size_t& i, const std::string& what) const {
     if (i >= t.size()) fail("missing colour after '" + what + "'");
@@ -341,6 +389,11 @@ inline std::string format_scene(const scene& s) {
            format_double(v.reflectance.b);
     out += " le " + format_double(v.emission.r) + " " + format_double(v.emission.g) + " " + format_double(v.emission.b);
     out += "\n";
+  }
+  if (const auto& v = s.view()) {
+    auto triple = [](const vec3& a) { return format_double(a[0]) + " " + format_double(a[1]) + " " + format_double(a[2]); };
+    out += "camera position " + triple(v->position) + " look_at " + triple(v->look_at) + " up " + triple(v->up) +
+           " fov " + format_double(v->vertical_fov_degrees) + "\n";
   }
   return out;
 }
