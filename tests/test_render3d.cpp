@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -457,6 +458,42 @@ TEST_CASE("camera: rays through pixel centres and inside pixels") {
 }
 
 // ============================================================================================
+TEST_CASE("renderers report progress: every job once, against the total they know, from any thread") {
+  const qrm::walk_model m = small_cornell_model();
+  const r::camera cam = r::box_scene_camera(8, 12, 10);
+  const auto px = r::pixel_starts(m, cam);
+  std::vector<std::pair<std::size_t, std::size_t>> distinct;  // the (voxel, direction) walk starts
+  for (const auto& p : px)
+    if (p.hit) distinct.emplace_back(p.voxel, p.start.direction);
+  std::sort(distinct.begin(), distinct.end());
+  distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+  REQUIRE(distinct.size() > 10);
+  for (unsigned threads : {1u, 2u}) {
+    std::atomic<std::size_t> finished{0}, calls{0}, total{0};
+    r::render_options o;
+    o.steps = 2;
+    o.threads = threads;
+    o.progress = [&](std::size_t n, std::size_t t) {
+      finished += n;
+      ++calls;
+      total = t;
+    };
+    (void)r::render_exact(m, cam, o);
+    CHECK(total == distinct.size());  // one job per distinct walk start
+    CHECK(finished == distinct.size());
+    finished = 0;
+    (void)r::render_monte_carlo(m, cam, 4, 1, o);
+    CHECK(total == 120);  // one job per pixel
+    CHECK(finished == 120);
+    finished = 0;
+    r::emulation_options e;
+    e.paths_per_pixel = 4;
+    (void)r::render_emulated(m, cam, e, o);
+    CHECK(total == distinct.size());
+    CHECK(finished == distinct.size());
+  }
+}
+
 TEST_CASE("pixel starts: the walker enters the hit surface in the nearest incoming direction") {
   const qrm::walk_model m = small_cornell_model();
   const r::camera cam = r::box_scene_camera(8, 16, 16);

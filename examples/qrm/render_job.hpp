@@ -10,6 +10,8 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -159,6 +161,28 @@ inline void check_render_flags_apply(const args& a, const render_settings& s, co
                           "estimation); --method " + s.methods + " estimates no amplitudes");
 }
 
+// A progress bar per renderer call, created on the first report (the renderer knows the total:
+// distinct walk starts or pixels), with rate and ETA; reports come from any thread.
+class job_progress {
+ public:
+  job_progress(std::string label, qrm::io::progress_options o) : label_(std::move(label)), options_(o) {}
+  std::function<void(std::size_t, std::size_t)> callback() {
+    return [this](std::size_t finished, std::size_t total) {
+      std::call_once(started_, [&] { bar_.emplace(label_, total, options_); });
+      bar_->advance(finished);
+    };
+  }
+  void finish() {
+    if (bar_) bar_->finish();
+  }
+
+ private:
+  std::string label_;
+  qrm::io::progress_options options_;
+  std::once_flag started_;
+  std::optional<qrm::io::progress> bar_;
+};
+
 // ---- outputs ----------------------------------------------------------------------------------
 
 inline std::string tile_suffix(const render_settings& s) {
@@ -246,7 +270,7 @@ inline lightmap_summary render_lightmap(const render_settings& s, const qrm::sce
   qrm::io::progress_options po;
   po.quiet = s.quiet;
   qrm::io::progress bar("light map " + sc.name(), (range.end - range.begin) * 3, po);
-  o.done = [&](std::size_t) { bar.advance(); };
+  o.progress = [&](std::size_t finished, std::size_t) { bar.advance(finished); };
   const auto t0 = std::chrono::steady_clock::now();
   const auto cells = qrm::render::estimate_lightmap(model, o);
   lightmap_summary out;
@@ -322,10 +346,11 @@ inline image3d_summary render_images_3d(const render_settings& s, const qrm::sce
     if (wants(s, m)) wanted.push_back(m);
   qrm::io::progress_options po;
   po.quiet = s.quiet;
-  qrm::io::progress bar("render " + base, wanted.size(), po);
   qrm::io::image exact;
   for (const std::string& m : wanted) {
     const auto t0 = std::chrono::steady_clock::now();
+    job_progress bar("render " + base + " " + m, po);
+    ro.progress = bar.callback();
     qrm::io::image img;
     if (m == "exact") {
       img = exact = qrm::render::render_exact(model, cam, ro);
@@ -348,6 +373,7 @@ inline image3d_summary render_images_3d(const render_settings& s, const qrm::sce
       q.seed = s.seed;
       q.threads = s.threads;
       q.part = s.part;
+      q.progress = ro.progress;
       const auto qi = qrm::render::render_quantum(model, cam, q);
       img = qi.estimated;
       out.distinct_starts = qi.distinct_starts;
@@ -358,9 +384,8 @@ inline image3d_summary render_images_3d(const render_settings& s, const qrm::sce
     write_image(s, base + "_" + m, img, out.written);
     bases.push_back(base + "_" + m);
     if (!exact.empty() && m != "exact" && !s.tiled()) out.rmse_vs_exact[m] = qrm::io::rmse(img, exact);
-    bar.advance();
+    bar.finish();
   }
-  bar.finish();
   if (s.tiled()) write_manifest(s, "images", bases, settings_json(s, sc, steps));
   return out;
 }

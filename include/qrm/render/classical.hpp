@@ -366,6 +366,9 @@ struct render_options {
   unsigned steps = 3;
   unsigned threads = 0;  // 0: the hardware's; the result does not depend on it
   tile part{};           // render only these pixels (the rest stay black); see merge_tiles
+  // progress(finished, total): after each job, from any thread: `finished` more of `total` jobs
+  // (distinct walk starts, or pixels for Monte Carlo) are done.
+  std::function<void(std::size_t, std::size_t)> progress;
 };
 
 }  // namespace qrm::render
@@ -420,6 +423,7 @@ inline image render_exact(const walk_model& m, const camera& cam, const render_o
   std::vector<rgb3> value(groups.keys.size());
   qrm::detail::parallel_jobs(groups.keys.size(), threads, [&](std::size_t k) {
     value[k] = path_sum_rgb(tables, qrm::detail::render_start_of(m.scene_data(), groups.keys[k]), o.steps);
+    if (o.progress) o.progress(1, groups.keys.size());
   });
   image img(cam.width(), cam.height());
   for (std::size_t k = 0; k < px.size(); ++k)
@@ -446,6 +450,13 @@ inline monte_carlo_image render_monte_carlo(const walk_model& m, const camera& c
   const qrm::detail::transition_table tables(m);
   monte_carlo_image out{image(cam.width(), cam.height()), image(cam.width(), cam.height())};
   qrm::detail::parallel_jobs(px.size(), threads, [&](std::size_t k) {
+    const struct report_at_exit {
+      const render_options& o;
+      std::size_t total;
+      ~report_at_exit() {
+        if (o.progress) o.progress(1, total);
+      }
+    } report{o, px.size()};
     if (!px[k].hit) return;
     const std::size_t p = r.begin + k;
     rng g = rng::stream(seed, p);
@@ -520,6 +531,7 @@ inline emulated_image render_emulated(const walk_model& m, const camera& cam, co
       }
       qrm::detail::shade_pixel(out.sampled, p, v, est);
     }
+    if (o.progress) o.progress(1, groups.keys.size());
   });
   return out;
 }

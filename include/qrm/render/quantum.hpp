@@ -47,7 +47,9 @@ struct quantum_options {
   std::uint64_t seed = 1;
   unsigned threads = 0;                    // 0: the hardware's; results do not depend on it
   tile part{};                             // only these cells / pixels
-  std::function<void(std::size_t)> done;  // called after each job (e.g. a progress bar), from any thread
+  // progress(finished, total): after each job, from any thread: `finished` more of `total` jobs
+  // are done (for a progress bar; total is known only to the renderer).
+  std::function<void(std::size_t, std::size_t)> progress;
 };
 
 // One cell (or walk start) and channel: the estimate of the faithful circuit's P(out = 1), the
@@ -115,7 +117,7 @@ std::vector<quantum_estimate> per_start_and_channel(const scene& sc, std::size_t
       out[start * 3 + static_cast<std::size_t>(c)] = job(start, c, g);
       out[start * 3 + static_cast<std::size_t>(c)].index = start;
     }
-    if (o.done) o.done(j);
+    if (o.progress) o.progress(1, jobs);
   });
   for (std::size_t s = range.begin; s < range.end; ++s)
     for (int c = 0; c < 3; ++c)
