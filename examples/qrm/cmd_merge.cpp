@@ -120,6 +120,34 @@ int cmd_merge(args& a) {
     written.push_back(base + ".csv");
     write_lightmap_figures(s, base, {merged[0], merged[1], merged[2]}, written);
   }
+  // A summary like a whole render's, with what the merged images determine: RMSE against the
+  // exact image (equal to the whole render's, since the merged images are identical to it).
+  std::string scene_base = ms[0].kind == "lightmap"
+                               ? ms[0].images[0].substr(0, ms[0].images[0].rfind("_lightmap"))
+                               : std::string();
+  std::string rmse = "{";
+  if (ms[0].kind == "images") {
+    const auto& names = ms[0].images;
+    auto exact_at = std::find_if(names.begin(), names.end(), [](const std::string& b) {
+      return b.size() > 6 && b.ends_with("_exact") && !b.ends_with("_quantum_exact");
+    });
+    if (exact_at != names.end()) scene_base = exact_at->substr(0, exact_at->size() - 6);
+    for (const char* method : {"emulated", "mc", "quantum"}) {  // the order of the whole render's summary
+      const auto at = std::find(names.begin(), names.end(), scene_base + "_" + method);
+      if (exact_at == names.end() || at == names.end()) continue;
+      rmse += std::string(rmse.size() > 1 ? "," : "") + "\"" + method + "\":" +
+              json_number(qrm::io::rmse(merged[static_cast<std::size_t>(at - names.begin())],
+                                        merged[static_cast<std::size_t>(exact_at - names.begin())]));
+    }
+  }
+  if (scene_base.empty()) scene_base = "merged";
+  std::string images = "[";
+  for (const auto& w : written) images += std::string(images.size() > 1 ? "," : "") + "\"" + w + "\"";
+  const std::string summary = "{\"kind\":\"" + ms[0].kind + "\",\"tiles\":" + std::to_string(n) +
+                              ",\"rmse_vs_exact\":" + rmse + "},\"images\":" + images + "],\"settings\":" +
+                              ms[0].settings + "}";
+  qrm::io::write_file_atomically(fs::path(s.out) / (scene_base + "_summary.json"), summary + "\n");
+  written.push_back(scene_base + "_summary.json");
   std::printf("merged %u tiles into %s:", n, s.out.c_str());
   for (const auto& w : written) std::printf(" %s", w.c_str());
   std::printf("\n");

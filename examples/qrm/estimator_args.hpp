@@ -3,6 +3,8 @@
 // another estimator is an error, not silently ignored.
 #pragma once
 
+#include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <set>
@@ -40,10 +42,12 @@ struct parsed_estimator {
   std::string options_json;  // the options used, as JSON members
 };
 
+// json_number(x): the shortest text that reads back as exactly x (0.2, not 0.20000000000000001).
 inline std::string json_number(double x) {
+  if (!std::isfinite(x)) return "null";  // JSON has no inf or nan
   char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
+  const auto r = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, r.ptr);
 }
 
 // parse_estimator_args(a, prefix, fallback): the settings named by --estimator (default

@@ -250,9 +250,13 @@ inline void write_lightmap_figures(const render_settings& s, const std::string& 
   qrm::io::write_png(dir / (base + "_difference.png"), qrm::io::upsample_nearest(qrm::io::false_colour(diff), block));
   qrm::io::tone_map tm;
   tm.exposure = s.exposure;
-  qrm::io::write_png(dir / (base + "_upsampled.png"),
-                     qrm::io::upsample_bilinear(maps.estimated, 256, 256 * maps.estimated.height() / maps.estimated.width()), tm);
+  const qrm::io::image up =
+      qrm::io::upsample_bilinear(maps.estimated, 256, 256 * maps.estimated.height() / maps.estimated.width());
+  qrm::io::write_pfm(dir / (base + "_upsampled.pfm"), up);
+  qrm::io::write_png(dir / (base + "_upsampled.png"), up, tm);
+  written.push_back(base + "_difference.pfm");
   written.push_back(base + "_difference.png");
+  written.push_back(base + "_upsampled.pfm");
   written.push_back(base + "_upsampled.png");
 }
 
