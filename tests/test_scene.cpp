@@ -44,7 +44,7 @@ TEST_CASE("paper_8x8 holds the authors' data") {
     emitters += v.emission.r > 0;
     air += v.kind == qrm::material::air;
   }
-  CHECK(emitters == 13);  // rows 0..7 of SPEC's emitted grid: 2 + 1 + 1 + 2 + 3 + 1 + 1 + 2
+  CHECK(emitters == 13);  // rows 0..7 of the emission table in examples/scenes/paper_8x8.txt: 2 + 1 + 1 + 2 + 3 + 1 + 1 + 2
   CHECK(air == 27);       // 64 minus 28 border cells minus the 3x3 block in the middle
 }
 
