@@ -616,18 +616,25 @@ TEST_CASE("CSV quoting, round-trip numbers, Markdown tables") {
   CHECK(csv_quote("say \"hi\"") == "\"say \"\"hi\"\"\"");
   CHECK(csv_quote("two\nlines") == "\"two\nlines\"");
   CHECK(csv_quote(" padded") == "\" padded\"");
-  // Numbers: exactly printf's %.17g, and they read back to the same double.
+  // Numbers read back to the same double, and are no longer than printf's %.{p}g with the
+  // smallest precision p that reads back (to_chars may write an integer-valued double in full,
+  // 37470267394548808 rather than 3.747026739454881e+16: fewer characters, more digits).
   qrm::rng g(11);
   for (int i = 0; i < 2000; ++i) {
     double v = std::bit_cast<double>(g());
     if (std::isnan(v)) continue;
     if (i % 2) v = g.uniform() * std::pow(10.0, static_cast<int>(g.below(40)) - 20);
+    const std::string text = csv_number(v);
+    CHECK(std::bit_cast<std::uint64_t>(std::strtod(text.c_str(), nullptr)) == std::bit_cast<std::uint64_t>(v));
     char ref[64];
-    std::snprintf(ref, sizeof ref, "%.17g", v);
-    CHECK(csv_number(v) == ref);
-    CHECK(std::bit_cast<std::uint64_t>(std::strtod(csv_number(v).c_str(), nullptr)) == std::bit_cast<std::uint64_t>(v));
+    for (int p = 1; p <= 17; ++p) {
+      std::snprintf(ref, sizeof ref, "%.*g", p, v);
+      if (std::strtod(ref, nullptr) == v) break;
+    }
+    CHECK(text.size() <= std::strlen(ref));
   }
-  CHECK(csv_number(0.1) == "0.10000000000000001");
+  CHECK(csv_number(0.1) == "0.1");
+  CHECK(csv_number(0.2 + 0.1) == "0.30000000000000004");
   CHECK(csv_number(std::numeric_limits<double>::infinity()) == "inf");
 
   table t({"method", "n", "error, rms"});
@@ -635,7 +642,7 @@ TEST_CASE("CSV quoting, round-trip numbers, Markdown tables") {
   t.add_row({"a|b \"q\"", std::uint64_t{18446744073709551615u}, 2.5});
   CHECK(to_csv(t) ==
         "method,n,\"error, rms\"\n"
-        "Monte Carlo,1000,0.10000000000000001\n"
+        "Monte Carlo,1000,0.1\n"
         "\"a|b \"\"q\"\"\",18446744073709551615,2.5\n");
   CHECK(to_markdown(t, 3) ==
         "| method | n | error, rms |\n"
@@ -846,4 +853,36 @@ TEST_CASE("progress: thread-safe count, rate-limited redraws, one line ended by 
   CHECK(contains(plain, "cells:  25.0%  1/4  elapsed"));
   CHECK(contains(plain, "cells: done 100.0%  4/4  elapsed"));
   CHECK(plain.back() == '\n');
+}
+
+TEST_CASE("progress: a job predicted to run long says so once, from its measured rate") {
+  using qrm::io::progress;
+  using qrm::io::progress_options;
+  using qrm::io::progress_style;
+  using ms = std::chrono::milliseconds;
+  auto run = [](progress_options o, std::uint64_t total) {
+    std::FILE* f = std::tmpfile();
+    o.out = f;
+    {
+      progress bar("render", total, o);
+      std::this_thread::sleep_for(ms(20));
+      for (int k = 0; k < 3; ++k) bar.advance();  // 3 units in >= 20 ms: >= 6.6 s for 1000
+    }
+    std::string text = read_stream(f);
+    std::fclose(f);
+    return text;
+  };
+  // Predicted >= 6.6 s, threshold 1 s: one line, in both styles.
+  for (progress_style style : {progress_style::plain, progress_style::terminal}) {
+    progress_options o{false, style, nullptr, ms(0), ms(100000), ms(1000), ms(10)};
+    const std::string text = run(o, 1000);
+    CHECK(contains(text, "render: this will take about "));
+    CHECK(contains(text, " in all (predicted from 1 of 1000 done in "));
+    CHECK(text.find("this will take") == text.rfind("this will take"));
+  }
+  // Below the threshold, before the calibration time, when quiet, or when disabled: nothing.
+  CHECK(!contains(run({false, progress_style::plain, nullptr, ms(0), ms(100000), ms(3600000), ms(10)}, 1000), "take about"));
+  CHECK(!contains(run({false, progress_style::plain, nullptr, ms(0), ms(100000), ms(1000), ms(60000)}, 1000), "take about"));
+  CHECK(!contains(run({true, progress_style::plain, nullptr, ms(0), ms(100000), ms(1000), ms(10)}, 1000), "take about"));
+  CHECK(!contains(run({false, progress_style::plain, nullptr, ms(0), ms(100000), ms(0), ms(10)}, 1000), "take about"));
 }

@@ -136,6 +136,14 @@ TEST_CASE("malformed scene files are rejected with the line and the problem") {
         "s.txt:6: unknown colour 'q' (declare it with 'color q R G B')");
   CHECK(err(std::string(header2d) + "teleport 1 2\n") == "s.txt:5: unknown statement 'teleport'");
   CHECK(err("qrm-scene 1\ndims 2\n") == "s.txt:2: the file ends before 'size' (a scene needs 'dims' and 'size')");
+  // The name becomes part of output file names: one plain word, else an error; without a name
+  // line, the file's name without directory and extension.
+  CHECK(err("qrm-scene 1\nname ../up\n") ==
+        "s.txt:2: name may use only letters, digits, '_', '-' and '.' (it names the output files), got '../up'");
+  CHECK(err("qrm-scene 1\nname a\"b\n").find("s.txt:2: name may use only") == 0);
+  CHECK(qrm::parse_scene(std::string(header2d), "some/dir/my room.v2.txt").name() == "my_room.v2");
+  CHECK(qrm::parse_scene(std::string(header2d), "C:\\scenes\\box.txt").name() == "box");
+  CHECK(qrm::parse_scene(std::string(header2d) + "name box-2_b.c\n", "x/y.txt").name() == "box-2_b.c");
   CHECK(err("qrm-scene 1\ndims 3\nsize 4\nvoxel 1 1 1 L 0 0 0 rho 1 1 1\n") == "s.txt:4: normal must be a nonzero vector");
   // Found by fuzz_scene: a normal with a huge (or tiny) but finite component is a valid direction;
   // its length overflows (underflows) in double, which once escaped as std::invalid_argument.

@@ -11,6 +11,7 @@
 #include <qrm/walk/circuit.hpp>
 
 #include "commands.hpp"
+#include "json.hpp"
 #include "scene_arg.hpp"
 
 namespace qrm_cli {
@@ -27,30 +28,13 @@ level_report report_for(const qrm::walk_model& m, const qrm::walk_start& start, 
   return {qrm::circuit_metrics_of(w.circuit), qrm::decomposed_metrics(w.circuit)};
 }
 
-// Appends `"key":value` pieces one by one (g++ 12 at -O3 warns falsely, -Wrestrict, on long
-// chains of std::string temporaries).
-struct json_object {
-  std::string text = "{";
-  json_object& raw(const std::string& key, const std::string& value) {
-    if (text.size() > 1) text += ',';
-    text += '"';
-    text += key;
-    text += "\":";
-    text += value;
-    return *this;
-  }
-  json_object& num(const std::string& key, std::size_t v) { return raw(key, std::to_string(v)); }
-  json_object& str(const std::string& key, const std::string& v) { return raw(key, "\"" + v + "\""); }
-  std::string done() const { return text + "}"; }
-};
-
 void add_level(json_object& j, const level_report& r) {
-  j.num("width", r.logical.width).num("logical_depth", r.logical.logical_depth).num("gate_count", r.logical.gate_count);
-  j.num("decomposed_depth", r.decomposed.depth).num("decomposed_cnot_count", r.decomposed.cnot_count);
-  j.num("decomposed_single_qubit_count", r.decomposed.single_qubit_count).num("decomposed_ancillas", r.decomposed.ancillas);
+  j.add("width", r.logical.width).add("logical_depth", r.logical.logical_depth).add("gate_count", r.logical.gate_count);
+  j.add("decomposed_depth", r.decomposed.depth).add("decomposed_cnot_count", r.decomposed.cnot_count);
+  j.add("decomposed_single_qubit_count", r.decomposed.single_qubit_count).add("decomposed_ancillas", r.decomposed.ancillas);
   json_object kinds;
-  for (const auto& [k, v] : r.logical.by_kind) kinds.num(k, v);
-  j.raw("gates_by_kind", kinds.done());
+  for (const auto& [k, v] : r.logical.by_kind) kinds.add(k, v);
+  j.add("gates_by_kind", kinds);
 }
 
 }  // namespace
@@ -103,23 +87,23 @@ int cmd_circuit(args& a) {
                                     (o.variant == qrm::walk_variant::history ? (s - 1) * d_bits : 0);
 
   json_object j;
-  j.str("scene", sc.name()).num("x", cell[0]).num("y", cell[1]).num("steps", s).str("variant", variant);
-  j.num("channel", static_cast<std::size_t>(o.channel)).str("prune", qrm::pruning_name(o.prune));
+  j.add("scene", sc.name()).add("x", cell[0]).add("y", cell[1]).add("steps", s).add("variant", variant);
+  j.add("channel", o.channel).add("prune", qrm::pruning_name(o.prune));
   add_level(j, chosen);
-  j.num("formula_width", formula_width).num("full_width", w.full_width);
-  std::string kept = "[";
-  for (unsigned i = 0; i < s; ++i) kept += std::string(i ? "," : "") + (w.tables.term_kept[i] ? "true" : "false");
-  j.raw("terms_kept", kept + "]");
+  j.add("formula_width", formula_width).add("full_width", w.full_width);
+  json_array kept;
+  for (unsigned i = 0; i < s; ++i) kept.push(static_cast<bool>(w.tables.term_kept[i]));
+  j.add("terms_kept", kept);
   json_object levels;
   for (qrm::pruning p : {qrm::pruning::none, qrm::pruning::scene, qrm::pruning::reachable}) {
     qrm::walk_options q = o;
     q.prune = p;
     json_object l;
     add_level(l, report_for(m, start, q));
-    levels.raw(qrm::pruning_name(p), l.done());
+    levels.add(qrm::pruning_name(p), l);
   }
-  j.raw("pruning", levels.done());
-  const std::string json = j.done();
+  j.add("pruning", levels);
+  const std::string json = j.str();
   std::printf("%s\n", json.c_str());
 
   if (a.has("qasm")) {

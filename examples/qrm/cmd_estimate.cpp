@@ -19,25 +19,7 @@ namespace {
   throw usage_error(message + " (qrm estimate --help lists the flags)");
 }
 
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\')
-      out += '\\', out += c;
-    else if (static_cast<unsigned char>(c) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
-      out += buf;
-    } else
-      out += c;
-  }
-  return out + "\"";
-}
-
 std::string num(double x) { return json_number(x); }
-std::string num(std::uint64_t x) {
-  return std::to_string(x);
-}
 
 }  // namespace
 
@@ -82,7 +64,7 @@ int cmd_estimate(args& a) {
   qrm::analytic_oracle oracle(p);
   qrm::rng g(seed);
   const qrm::estimation_result r = qrm::estimate_amplitude(oracle, est.settings, g);
-  const std::string& options = est.options_json;
+  const json_object& options = est.options;
 
   if (format == "text") {
     std::printf("estimator %s, P = %s%s\n", r.estimator.c_str(), num(p).c_str(), exact ? " (exact probabilities)" : "");
@@ -96,32 +78,25 @@ int cmd_estimate(args& a) {
     if (!r.warning.empty()) std::printf("warning   %s\n", r.warning.c_str());
     return 0;
   }
-  std::string j = "{\"estimator\":" + json_string(r.estimator) + ",\"probability\":" + num(p) +
-                  ",\"estimate\":" + num(r.estimate) + ",\"raw_estimate\":" + num(r.raw_estimate) +
-                  ",\"confidence_interval\":[" + num(r.confidence_interval[0]) + "," + num(r.confidence_interval[1]) +
-                  "],\"confidence\":" + num(r.confidence) + ",\"oracle_calls\":" + num(r.a_calls) +
-                  ",\"grover_calls\":" + num(r.grover_calls) + ",\"shots\":" + num(r.shots);
-  if (r.standard_error) j += ",\"standard_error\":" + num(*r.standard_error);
-  if (r.check_shots) j += ",\"check_oracle_calls\":" + num(r.check_a_calls) + ",\"check_shots\":" + num(r.check_shots);
-  j += ",\"exact_probabilities\":" + std::string(exact ? "true" : "false") + ",\"seed\":" + num(seed) +
-       ",\"options\":{" + options + "}";
-  j += ",\"rounds\":[";
-  for (std::size_t i = 0; i < r.rounds.size(); ++i) {
-    const auto& rr = r.rounds[i];
-    j += std::string(i ? "," : "") + "{\"power\":" + num(rr.power) + ",\"shots\":" + num(rr.shots) +
-         ",\"hits\":" + num(rr.hits);
-    if (r.estimator == "qcoin") j += ",\"reference\":" + num(rr.reference);
-    j += "}";
+  json_object j;
+  j.add("estimator", r.estimator).add("probability", p).add("estimate", r.estimate).add("raw_estimate", r.raw_estimate);
+  j.add("confidence_interval", json_array::of(r.confidence_interval)).add("confidence", r.confidence);
+  j.add("oracle_calls", r.a_calls).add("grover_calls", r.grover_calls).add("shots", r.shots);
+  if (r.standard_error) j.add("standard_error", *r.standard_error);
+  if (r.check_shots) j.add("check_oracle_calls", r.check_a_calls).add("check_shots", r.check_shots);
+  j.add("exact_probabilities", exact).add("seed", seed).add("options", options);
+  json_array rounds;
+  for (const auto& rr : r.rounds) {
+    json_object round;
+    round.add("power", rr.power).add("shots", rr.shots).add("hits", rr.hits);
+    if (r.estimator == "qcoin") round.add("reference", rr.reference);
+    rounds.push(round);
   }
-  j += "]";
-  if (!r.phase_counts.empty()) {
-    j += ",\"phase_counts\":[";
-    for (std::size_t i = 0; i < r.phase_counts.size(); ++i) j += (i ? "," : "") + num(r.phase_counts[i]);
-    j += "]";
-  }
-  if (!r.warning.empty()) j += ",\"warning\":" + json_string(r.warning);
-  j += ",\"seconds\":" + num(r.seconds) + "}";
-  std::printf("%s\n", j.c_str());
+  j.add("rounds", rounds);
+  if (!r.phase_counts.empty()) j.add("phase_counts", json_array::of(r.phase_counts));
+  if (!r.warning.empty()) j.add("warning", r.warning);
+  j.add("seconds", r.seconds);
+  std::printf("%s\n", j.str().c_str());
   return 0;
 }
 

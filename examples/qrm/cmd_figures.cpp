@@ -92,7 +92,8 @@ int cmd_figures(args& a) {
   s.threads = static_cast<unsigned>(a.integer("threads", 0, 0, 1024));
   s.seed = static_cast<std::uint64_t>(a.integer("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
   s.quiet = a.flag("quiet");
-  s.estimator_json = "{\"estimator\":\"fae\",\"delta\":0.01,\"maxiter\":5,\"rescale\":true}";
+  const qrm::fae_options& fae = s.estimator.fae;  // the paper's: the default settings
+  s.estimator_json.add("estimator", "fae").add("delta", fae.delta).add("maxiter", fae.maxiter).add("rescale", fae.rescale);
   const fs::path dir(s.out);
   qrm::io::ensure_directory(dir);
   const auto t_all = std::chrono::steady_clock::now();

@@ -2,9 +2,11 @@
 #include <cstdio>
 #include <string>
 
+#include <qrm/io/csv.hpp>
 #include <qrm/walk/lightmap.hpp>
 
 #include "commands.hpp"
+#include "json.hpp"
 #include "scene_arg.hpp"
 
 namespace qrm_cli {
@@ -42,19 +44,17 @@ int cmd_lightmap(args& a) {
   const auto cells = backend == qrm::dense_backend::name ? qrm::exact_lightmap<qrm::dense_backend>(model, o)
                                                          : qrm::exact_lightmap<qrm::compact_backend>(model, o);
   if (format == "csv") {
-    std::printf("scene,x,y,channel,faithful,history,classical\n");
-    for (const auto& c : cells)
-      std::printf("%s,%u,%u,%d,%.17g,%.17g,%.17g\n", sc.name().c_str(), c.x, c.y, c.channel, c.faithful, c.history,
-                  c.classical);
+    qrm::io::table t({"scene", "x", "y", "channel", "faithful", "history", "classical"});
+    for (const auto& c : cells) t.add_row({sc.name(), c.x, c.y, c.channel, c.faithful, c.history, c.classical});
+    std::printf("%s", qrm::io::to_csv(t).c_str());
   } else {
-    std::printf("[");
-    for (std::size_t i = 0; i < cells.size(); ++i) {
-      const auto& c = cells[i];
-      std::printf("%s\n {\"scene\":\"%s\",\"x\":%u,\"y\":%u,\"channel\":%d,\"faithful\":%.17g,\"history\":%.17g,"
-                  "\"classical\":%.17g}",
-                  i ? "," : "", sc.name().c_str(), c.x, c.y, c.channel, c.faithful, c.history, c.classical);
+    json_array rows;
+    for (const auto& c : cells) {
+      json_object row;
+      row.add("scene", sc.name()).add("x", c.x).add("y", c.y).add("channel", c.channel);
+      rows.push(row.add("faithful", c.faithful).add("history", c.history).add("classical", c.classical));
     }
-    std::printf("\n]\n");
+    std::printf("%s\n", rows.str().c_str());
   }
   return 0;
 }

@@ -23,6 +23,7 @@ struct manifest {
   std::string kind, settings;
   unsigned tile = 0, tiles = 0;
   std::vector<std::string> images;
+  std::string scene;
 };
 
 std::string read_text(const fs::path& p) {
@@ -48,6 +49,8 @@ manifest parse_manifest(const fs::path& p) {
   const auto s0 = t.find("\"settings\":"), s1 = t.find(",\"images\":[");
   if (s0 == std::string::npos || s1 == std::string::npos || s1 < s0) throw fail("missing \"settings\" or \"images\"");
   m.settings = t.substr(s0 + 11, s1 - s0 - 11);
+  if (!std::regex_search(m.settings, g, std::regex("^\\{\"scene\":\"([A-Za-z0-9_.-]+)\""))) throw fail("missing the scene's name");
+  m.scene = g[1];
   const std::string list = t.substr(s1 + 11);
   const std::regex quoted("\"([A-Za-z0-9_.-]+)\"");
   for (std::sregex_iterator it(list.begin(), list.end(), quoted), end; it != end; ++it)
@@ -125,7 +128,7 @@ int cmd_merge(args& a) {
   std::string scene_base = ms[0].kind == "lightmap"
                                ? ms[0].images[0].substr(0, ms[0].images[0].rfind("_lightmap"))
                                : std::string();
-  std::string rmse = "{";
+  json_object rmse;
   if (ms[0].kind == "images") {
     const auto& names = ms[0].images;
     auto exact_at = std::find_if(names.begin(), names.end(), [](const std::string& b) {
@@ -135,18 +138,15 @@ int cmd_merge(args& a) {
     for (const char* method : {"emulated", "mc", "quantum"}) {  // the order of the whole render's summary
       const auto at = std::find(names.begin(), names.end(), scene_base + "_" + method);
       if (exact_at == names.end() || at == names.end()) continue;
-      rmse += std::string(rmse.size() > 1 ? "," : "") + "\"" + method + "\":" +
-              json_number(qrm::io::rmse(merged[static_cast<std::size_t>(at - names.begin())],
-                                        merged[static_cast<std::size_t>(exact_at - names.begin())]));
+      rmse.add(method, qrm::io::rmse(merged[static_cast<std::size_t>(at - names.begin())],
+                                     merged[static_cast<std::size_t>(exact_at - names.begin())]));
     }
   }
   if (scene_base.empty()) scene_base = "merged";
-  std::string images = "[";
-  for (const auto& w : written) images += std::string(images.size() > 1 ? "," : "") + "\"" + w + "\"";
-  const std::string summary = "{\"kind\":\"" + ms[0].kind + "\",\"tiles\":" + std::to_string(n) +
-                              ",\"rmse_vs_exact\":" + rmse + "},\"images\":" + images + "],\"settings\":" +
-                              ms[0].settings + "}";
-  qrm::io::write_file_atomically(fs::path(s.out) / (scene_base + "_summary.json"), summary + "\n");
+  json_object summary;
+  summary.add("scene", ms[0].scene).add("kind", ms[0].kind).add("tiles", n).add("rmse_vs_exact", rmse);
+  summary.add("images", json_array::of(written)).add_verbatim("settings", ms[0].settings);
+  qrm::io::write_file_atomically(fs::path(s.out) / (scene_base + "_summary.json"), summary.str() + "\n");
   written.push_back(scene_base + "_summary.json");
   std::printf("merged %u tiles into %s:", n, s.out.c_str());
   for (const auto& w : written) std::printf(" %s", w.c_str());

@@ -48,33 +48,25 @@ int cmd_render(args& a) {
   check_render_flags_apply(a, s, sc);
   if (sc.dims() == 3) (void)scene_camera(s, sc);  // refuse a scene the camera cannot see before creating anything
   qrm::io::ensure_directory(s.out);
-  std::string summary;
+  json_object summary;
+  summary.add("scene", sc.name());
   if (sc.dims() == 2) {
     const auto r = render_lightmap(s, sc);
-    summary = "{\"scene\":\"" + sc.name() + "\",\"kind\":\"lightmap\",\"cell_channels\":" +
-              std::to_string(r.cell_channels) + ",\"exact_inside_interval\":" + std::to_string(r.inside_interval) +
-              ",\"rmse_vs_exact\":" + json_number(r.rmse_vs_exact) + ",\"rmse_vs_classical\":" +
-              json_number(r.rmse_vs_classical) + ",\"max_relative_interference\":" + json_number(r.max_interference) +
-              ",\"oracle_calls\":" + std::to_string(r.a_calls) + ",\"seconds\":" + json_number(r.seconds) +
-              ",\"settings\":" + settings_json(s, sc, s.effective_steps(2)) + "}";
+    summary.add("kind", "lightmap").add("cell_channels", r.cell_channels).add("exact_inside_interval", r.inside_interval);
+    summary.add("rmse_vs_exact", r.rmse_vs_exact).add("rmse_vs_classical", r.rmse_vs_classical);
+    summary.add("max_relative_interference", r.max_interference).add("oracle_calls", r.a_calls);
+    summary.add("seconds", r.seconds).add("settings", settings_json(s, sc, s.effective_steps(2)));
   } else {
     const auto r = render_images_3d(s, sc);
-    summary = "{\"scene\":\"" + sc.name() + "\",\"kind\":\"images\",\"seconds\":{";
-    bool first = true;
-    for (const auto& [m, t] : r.seconds) {
-      summary += std::string(first ? "" : ",") + "\"" + m + "\":" + json_number(t);
-      first = false;
-    }
-    summary += "},\"rmse_vs_exact\":{";
-    first = true;
-    for (const auto& [m, v] : r.rmse_vs_exact) {
-      summary += std::string(first ? "" : ",") + "\"" + m + "\":" + json_number(v);
-      first = false;
-    }
-    summary += "},\"settings\":" + settings_json(s, sc, s.effective_steps(3)) + "}";
+    json_object seconds, rmse;
+    for (const auto& [m, t] : r.seconds) seconds.add(m, t);
+    for (const auto& [m, v] : r.rmse_vs_exact) rmse.add(m, v);
+    summary.add("kind", "images").add("seconds", seconds).add("rmse_vs_exact", rmse);
+    summary.add("settings", settings_json(s, sc, s.effective_steps(3)));
   }
-  if (!s.tiled()) qrm::io::write_file_atomically(fs::path(s.out) / (sc.name() + "_summary.json"), summary + "\n");
-  std::printf("%s\n", summary.c_str());
+  const std::string text = summary.str();
+  if (!s.tiled()) qrm::io::write_file_atomically(fs::path(s.out) / (sc.name() + "_summary.json"), text + "\n");
+  std::printf("%s\n", text.c_str());
   return 0;
 }
 

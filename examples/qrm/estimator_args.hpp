@@ -3,7 +3,6 @@
 // another estimator is an error, not silently ignored.
 #pragma once
 
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -13,6 +12,7 @@
 #include <qrm/estimation/estimator.hpp>
 
 #include "args.hpp"
+#include "json.hpp"
 
 namespace qrm_cli {
 
@@ -39,16 +39,14 @@ inline flag_table estimator_flag_table(const char* qcoin_steps) {
 
 struct parsed_estimator {
   qrm::estimator_settings settings;
-  std::string options_json;  // the options used, as JSON members
+  json_object options;  // the options used (without the estimator's name)
+  // json(): {"estimator": name, options...}.
+  json_object json() const {
+    json_object j;
+    j.add("estimator", qrm::estimator_name(settings.kind));
+    return j.add_members(options);
+  }
 };
-
-// json_number(x): the shortest text that reads back as exactly x (0.2, not 0.20000000000000001).
-inline std::string json_number(double x) {
-  if (!std::isfinite(x)) return "null";  // JSON has no inf or nan
-  char buf[40];
-  const auto r = std::to_chars(buf, buf + sizeof buf, x);
-  return std::string(buf, r.ptr);
-}
 
 // parse_estimator_args(a, prefix, fallback): the settings named by --estimator (default
 // `fallback`). `prefix` starts every message ("estimate: ").
@@ -95,7 +93,7 @@ inline parsed_estimator parse_estimator_args(args& a, const std::string& prefix,
   parsed_estimator p;
   qrm::estimator_settings& s = p.settings;
   s.kind = qrm::estimator_from_name(name);
-  std::string& options = p.options_json;
+  json_object& options = p.options;
   if (name == "fae") {
     auto& o = s.fae;
     o.delta = number_in("delta", o.delta, 0.0, 1.0, true, true);
@@ -103,8 +101,7 @@ inline parsed_estimator parse_estimator_args(args& a, const std::string& prefix,
     const bool yes = a.flag("rescale"), no = a.flag("no-rescale");
     if (yes && no) throw usage_error(prefix + "give either --rescale or --no-rescale, not both");
     o.rescale = !no;
-    options = "\"delta\":" + json_number(o.delta) + ",\"maxiter\":" + std::to_string(o.maxiter) +
-              ",\"rescale\":" + (o.rescale ? "true" : "false");
+    options.add("delta", o.delta).add("maxiter", o.maxiter).add("rescale", o.rescale);
   } else if (name == "iqae") {
     auto& o = s.iqae;
     o.epsilon = number_in("epsilon", o.epsilon, 0.0, 0.5, true, false);
@@ -112,9 +109,8 @@ inline parsed_estimator parse_estimator_args(args& a, const std::string& prefix,
     o.shots = static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots), 1, max_shots));
     o.interval = word("interval", "cp", {"cp", "ch"}) == "cp" ? qrm::iqae_interval::clopper_pearson
                                                               : qrm::iqae_interval::chernoff_hoeffding;
-    options = "\"epsilon\":" + json_number(o.epsilon) + ",\"alpha\":" + json_number(o.alpha) +
-              ",\"shots_per_round\":" + std::to_string(o.shots) + ",\"interval\":\"" +
-              (o.interval == qrm::iqae_interval::clopper_pearson ? "cp" : "ch") + "\"";
+    options.add("epsilon", o.epsilon).add("alpha", o.alpha).add("shots_per_round", o.shots);
+    options.add("interval", o.interval == qrm::iqae_interval::clopper_pearson ? "cp" : "ch");
   } else if (name == "mlae") {
     auto& o = s.mlae;
     o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);
@@ -122,29 +118,26 @@ inline parsed_estimator parse_estimator_args(args& a, const std::string& prefix,
     o.schedule = word("schedule", "exponential", {"exponential", "linear"}) == "linear" ? qrm::mlae_schedule::linear
                                                                                         : qrm::mlae_schedule::exponential;
     o.m = static_cast<unsigned>(integer_in("m", o.m, 0, o.schedule == qrm::mlae_schedule::linear ? 256 : 30));
-    options = "\"alpha\":" + json_number(o.alpha) + ",\"shots_per_power\":" + std::to_string(o.shots) +
-              ",\"schedule\":\"" + (o.schedule == qrm::mlae_schedule::linear ? "linear" : "exponential") +
-              "\",\"m\":" + std::to_string(o.m);
+    options.add("alpha", o.alpha).add("shots_per_power", o.shots);
+    options.add("schedule", o.schedule == qrm::mlae_schedule::linear ? "linear" : "exponential").add("m", o.m);
   } else if (name == "canonical") {
     auto& o = s.canonical;
     o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);
     o.shots = static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots), 1, max_shots));
     o.evaluation_qubits = static_cast<unsigned>(integer_in("evaluation-qubits", o.evaluation_qubits, 1, 12));
-    options = "\"alpha\":" + json_number(o.alpha) + ",\"shots\":" + std::to_string(o.shots) +
-              ",\"evaluation_qubits\":" + std::to_string(o.evaluation_qubits);
+    options.add("alpha", o.alpha).add("shots", o.shots).add("evaluation_qubits", o.evaluation_qubits);
   } else if (name == "qcoin") {
     auto& o = s.qcoin;
     o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);
     o.shots_per_step =
         static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots_per_step), 1, max_shots));
     o.steps = static_cast<unsigned>(integer_in(coin_steps_flag, o.steps, 1, 16));
-    options = "\"alpha\":" + json_number(o.alpha) + ",\"shots_per_step\":" + std::to_string(o.shots_per_step) +
-              ",\"steps\":" + std::to_string(o.steps);
+    options.add("alpha", o.alpha).add("shots_per_step", o.shots_per_step).add("steps", o.steps);
   } else {
     auto& o = s.mc;
     o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);
     o.shots = static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots), 1, max_shots));
-    options = "\"alpha\":" + json_number(o.alpha) + ",\"shots\":" + std::to_string(o.shots);
+    options.add("alpha", o.alpha).add("shots", o.shots);
   }
   return p;
 }

@@ -46,7 +46,7 @@ struct render_settings {
   std::size_t paths = 32;              // 3D: paths per pixel (emulated, Monte Carlo)
   std::string methods = "all";         // 3D: exact, mc, emulated, quantum, all (= exact,mc,emulated)
   qrm::estimator_settings estimator;   // default FAE, maxiter 5, rescaling
-  std::string estimator_json;
+  json_object estimator_json;          // the estimator and its options, for summaries
   // simulated: every Grover iteration applied to the state; analytic: P(out=1) read once from
   // the simulated state, then the sin^2 law (the same measurement statistics, tested). Default:
   // simulated for 2D light maps, analytic for 3D images (one 3D walk state takes ~30 ms).
@@ -115,7 +115,7 @@ inline render_settings parse_render_settings(args& a) {
   if (!(s.exposure > 0)) throw usage_error("--exposure must be positive, got " + a.str("exposure", ""));
   const parsed_estimator e = parse_estimator_args(a, "", "fae", "ae-steps");
   s.estimator = e.settings;
-  s.estimator_json = "{\"estimator\":\"" + std::string(qrm::estimator_name(e.settings.kind)) + "\"," + e.options_json + "}";
+  s.estimator_json = e.json();
   return s;
 }
 
@@ -204,26 +204,24 @@ inline void write_image(const render_settings& s, const std::string& base, const
   written.push_back(base + ".png");
 }
 
-// A tile's manifest: the command line that made it, and the tile.
+// A tile's manifest: the command line that made it, and the tile (qrm merge reads it back).
 inline void write_manifest(const render_settings& s, const std::string& kind, const std::vector<std::string>& bases,
-                           const std::string& settings_text) {
-  std::string j = "{\"kind\":\"" + kind + "\",\"tile\":" + std::to_string(s.part.index) +
-                  ",\"tiles\":" + std::to_string(s.part.count) + ",\"settings\":" + settings_text + ",\"images\":[";
-  for (std::size_t i = 0; i < bases.size(); ++i) j += std::string(i ? "," : "") + "\"" + bases[i] + "\"";
-  j += "]}\n";
-  qrm::io::write_file_atomically(fs::path(s.out) / ("manifest" + tile_suffix(s) + ".json"), j);
+                           const json_object& settings) {
+  json_object j;
+  j.add("kind", kind).add("tile", s.part.index).add("tiles", s.part.count).add("settings", settings);
+  j.add("images", json_array::of(bases));
+  qrm::io::write_file_atomically(fs::path(s.out) / ("manifest" + tile_suffix(s) + ".json"), j.str() + "\n");
 }
 
-inline std::string settings_json(const render_settings& s, const qrm::scene& sc, unsigned steps) {
-  std::string j = "{\"scene\":\"" + sc.name() + "\",\"dims\":" + std::to_string(sc.dims()) + ",\"size\":" +
-                  std::to_string(sc.size()) + ",\"steps\":" + std::to_string(steps) + ",\"seed\":" + std::to_string(s.seed);
-  if (sc.dims() == 3)
-    j += ",\"width\":" + std::to_string(s.width) + ",\"height\":" + std::to_string(s.height) +
-         ",\"directions\":" + std::to_string(s.directions) + ",\"fractional_bits\":" + std::to_string(s.fractional_bits) +
-         ",\"paths\":" + std::to_string(s.paths) + ",\"methods\":\"" + s.methods + "\"";
-  j += ",\"grover\":\"" + std::string(s.grover_for(sc.dims()) == qrm::render::grover_mode::simulated ? "simulated" : "analytic") +
-       "\",\"estimator\":" + s.estimator_json + "}";
-  return j;
+inline json_object settings_json(const render_settings& s, const qrm::scene& sc, unsigned steps) {
+  json_object j;
+  j.add("scene", sc.name()).add("dims", sc.dims()).add("size", sc.size()).add("steps", steps).add("seed", s.seed);
+  if (sc.dims() == 3) {
+    j.add("width", s.width).add("height", s.height).add("directions", s.directions);
+    j.add("fractional_bits", s.fractional_bits).add("paths", s.paths).add("methods", s.methods);
+  }
+  j.add("grover", s.grover_for(sc.dims()) == qrm::render::grover_mode::simulated ? "simulated" : "analytic");
+  return j.add("estimator", s.estimator_json);
 }
 
 inline double seconds_since(std::chrono::steady_clock::time_point t0) {

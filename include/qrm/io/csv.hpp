@@ -3,8 +3,8 @@
 //
 // CSV follows RFC 4180 except that lines end in "\n": a field is quoted when it contains a
 // comma, a double quote, CR or LF, or starts or ends with a space or tab, and quotes inside are
-// doubled. Real numbers are written as printf's "%.17g" (17 significant digits, so reading them
-// back gives the same double), "nan", "inf" or "-inf"; integers are written exactly.
+// doubled. Real numbers are written as the shortest text that reads back as the same double
+// (std::to_chars: 0.1, not 0.10000000000000001), "nan", "inf" or "-inf"; integers exactly.
 #pragma once
 
 #include <charconv>
@@ -20,11 +20,11 @@
 
 namespace qrm::io {
 
-// csv_number(v): v as "%.17g" (round-trips through strtod), or "nan", "inf", "-inf".
+// csv_number(v): the shortest text strtod reads back as exactly v, or "nan", "inf", "-inf".
 template <int = 0>
 inline std::string csv_number(double v) {
   char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 17);
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
   return std::string(buf, r.ptr);
 }
 
@@ -57,9 +57,10 @@ class cell {
 
   kind type() const { return kind_; }
   bool numeric() const { return kind_ != kind::text; }
-  // text(significant_digits): the cell as text; real numbers with that many significant digits
-  // (17: exact round trip).
-  std::string text(int significant_digits = 17) const {
+  // text(): the cell as text, real numbers exactly (csv_number).
+  std::string text() const { return kind_ == kind::real ? csv_number(real_) : text_; }
+  // text(significant_digits): real numbers rounded to that many significant digits.
+  std::string text(int significant_digits) const {
     if (kind_ != kind::real) return text_;
     char buf[64];
     const auto r = std::to_chars(buf, buf + sizeof buf, real_, std::chars_format::general, significant_digits);
@@ -107,7 +108,7 @@ inline std::string to_csv(const table& t) {
     out += '\n';
   };
   line(t.header(), [](const std::string& s) { return s; });
-  for (const auto& row : t.rows()) line(row, [](const cell& c) { return c.text(17); });
+  for (const auto& row : t.rows()) line(row, [](const cell& c) { return c.text(); });
   return out;
 }
 

@@ -9,6 +9,8 @@
 //     short job prints nothing at all; if any line was printed, finish() prints a final
 //     "label: done ..." line;
 //   - quiet = true (or progress_style::off): nothing.
+// A job predicted (after 2 s of work) to take more than 3 minutes says so once, in both styles:
+// "label: this will take about 1h02m in all (predicted from 3 of 192 done in 2.1s)".
 // To print other text while a bar is shown, use message(): it clears the bar, prints the line
 // and redraws the bar, so the two never interleave.
 #pragma once
@@ -42,6 +44,11 @@ struct progress_options {
   std::FILE* out = stderr;
   std::chrono::milliseconds redraw_interval{100};   // terminal style
   std::chrono::milliseconds plain_interval{10000};  // plain style
+  // Once `calibration` has passed and some work is done, a job whose predicted total time
+  // exceeds `warn_longer_than` says so in one line (any style but off), so that the user can
+  // stop it early rather than find out from the ETA. 0 = never.
+  std::chrono::milliseconds warn_longer_than{180000};
+  std::chrono::milliseconds calibration{2000};
 };
 
 }  // namespace qrm::io
@@ -105,9 +112,10 @@ class progress {
 
   // advance(n): n more units done; safe from any thread; redraws when the interval has passed.
   void advance(std::uint64_t n = 1) {
-    done_.fetch_add(n, std::memory_order_relaxed);
+    const std::uint64_t done = done_.fetch_add(n, std::memory_order_relaxed) + n;
     if (style_ == progress_style::off || finished_.load(std::memory_order_relaxed)) return;
     const std::int64_t now = elapsed_ns();
+    if (!predicted_.load(std::memory_order_relaxed)) predict(now, done);
     std::int64_t next = next_draw_ns_.load(std::memory_order_relaxed);
     // Only the thread that moves the deadline forward draws; the others go straight back to work.
     if (now < next || !next_draw_ns_.compare_exchange_strong(next, now + interval_ns_)) return;
@@ -127,16 +135,7 @@ class progress {
   // when quiet: it is the caller's own output).
   void message(std::string_view line) {
     std::lock_guard<std::mutex> lock(mutex_);
-    std::FILE* out = options_.out != nullptr ? options_.out : stderr;
-    if (style_ == progress_style::terminal && shown_chars_ > 0 && !finished_.load()) {
-      std::fprintf(out, "\r%*s\r%.*s\n", static_cast<int>(shown_chars_), "", static_cast<int>(line.size()),
-                   line.data());
-      shown_chars_ = 0;
-      draw(false);
-    } else {
-      std::fprintf(out, "%.*s\n", static_cast<int>(line.size()), line.data());
-      std::fflush(out);
-    }
+    print_line(line);
   }
 
   // finish(): draws the final state and ends the line (terminal style); later calls do nothing.
@@ -151,6 +150,35 @@ class progress {
 
   std::int64_t elapsed_ns() const {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(clock::now() - start_).count();
+  }
+
+  // The one-time prediction of the total time (see progress_options::warn_longer_than).
+  void predict(std::int64_t now, std::uint64_t done) {
+    const auto warn = std::chrono::duration_cast<std::chrono::nanoseconds>(options_.warn_longer_than).count();
+    const auto calibration = std::chrono::duration_cast<std::chrono::nanoseconds>(options_.calibration).count();
+    if (warn <= 0 || now < calibration || done == 0 || total_ == 0 || predicted_.exchange(true)) return;
+    const double total_s = static_cast<double>(now) * 1e-9 * static_cast<double>(total_) / static_cast<double>(done);
+    if (total_s * 1e9 <= static_cast<double>(warn)) return;
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "%s: this will take about %s in all (predicted from %llu of %llu done in %s)",
+                  label_.c_str(), detail::duration_text(total_s).c_str(), static_cast<unsigned long long>(done),
+                  static_cast<unsigned long long>(total_), detail::duration_text(static_cast<double>(now) * 1e-9).c_str());
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!finished_.load()) print_line(buf);
+  }
+
+  // Called with mutex_ held.
+  void print_line(std::string_view line) {
+    std::FILE* out = options_.out != nullptr ? options_.out : stderr;
+    if (style_ == progress_style::terminal && shown_chars_ > 0 && !finished_.load()) {
+      std::fprintf(out, "\r%*s\r%.*s\n", static_cast<int>(shown_chars_), "", static_cast<int>(line.size()),
+                   line.data());
+      shown_chars_ = 0;
+      draw(false);
+    } else {
+      std::fprintf(out, "%.*s\n", static_cast<int>(line.size()), line.data());
+      std::fflush(out);
+    }
   }
 
   // Called with mutex_ held.
@@ -200,6 +228,7 @@ class progress {
   std::atomic<std::uint64_t> done_{0};
   std::atomic<std::int64_t> next_draw_ns_{0};
   std::atomic<bool> finished_{false};
+  std::atomic<bool> predicted_{false};  // the total-time prediction has been made
   mutable std::mutex mutex_;
   std::size_t shown_chars_ = 0;  // length of the bar currently on the terminal line
   std::uint64_t redraws_ = 0;

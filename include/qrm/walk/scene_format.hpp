@@ -28,6 +28,7 @@
 // error names the file, the line and the problem.
 #pragma once
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -48,6 +49,24 @@ struct scene_parse_error : std::invalid_argument {
 };
 
 namespace detail {
+
+// A scene's name becomes part of output file names, so it is one plain file-name word.
+inline bool scene_name_char(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
+}
+inline bool valid_scene_name(const std::string& name) {
+  return !name.empty() && std::all_of(name.begin(), name.end(), scene_name_char);
+}
+
+// The name of a scene file without a `name` line: its file name without directory and
+// extension, other characters replaced by '_' ("my room.txt" -> "my_room").
+inline std::string name_from_source(const std::string& source) {
+  const auto slash = source.find_last_of("/\\");
+  std::string stem = slash == std::string::npos ? source : source.substr(slash + 1);
+  if (const auto dot = stem.rfind('.'); dot != std::string::npos && dot > 0) stem.erase(dot);
+  std::replace_if(stem.begin(), stem.end(), [](char c) { return !scene_name_char(c); }, '_');
+  return stem.empty() ? "scene" : stem;
+}
 
 class scene_parser {
  public:
@@ -71,7 +90,7 @@ class scene_parser {
     if (head.size() != 2 || head[0] != "qrm-scene") fail("first line must be 'qrm-scene 1'");
     if (head[1] != "1") fail("unsupported format version '" + head[1] + "' (this reader knows version 1)");
     ++row_;
-    std::string name = source_;
+    std::string name = name_from_source(source_);
     unsigned dims = 0, size = 0;
     bool have_scene = false;
     scene s;
@@ -80,6 +99,8 @@ class scene_parser {
       const std::string& key = t[0];
       if (key == "name") {
         expect_count(t, 2, "name NAME");
+        if (!valid_scene_name(t[1]))
+          fail("name may use only letters, digits, '_', '-' and '.' (it names the output files), got '" + t[1] + "'");
         name = t[1];
         if (have_scene) s.set_name(name);
       } else if (key == "dims") {
