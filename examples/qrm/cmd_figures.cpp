@@ -75,13 +75,14 @@ void write_curves(const fs::path& dir, const std::string& base, const std::strin
 
 flag_table figures_flags() {
   const char* g = "figures";
-  return {
+  flag_table f{
       {"out", "DIR", "figures", "output directory (created)", g},
       {"quick", "", "", "smaller images and sweeps (for tests; minutes become seconds)", g},
       {"seed", "S", "1", "random seed, integer >= 0", g},
       {"threads", "T", "0", "worker threads; 0 = all cores (the result does not depend on it)", g},
-      {"quiet", "", "", "no progress on stderr", g},
   };
+  add_progress_flags(f, g);
+  return f;
 }
 
 int cmd_figures(args& a) {
@@ -91,7 +92,7 @@ int cmd_figures(args& a) {
   s.out = a.str("out", "figures");
   s.threads = static_cast<unsigned>(a.integer("threads", 0, 0, 1024));
   s.seed = static_cast<std::uint64_t>(a.integer("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
-  s.quiet = a.flag("quiet");
+  s.progress = progress_from_flags(a);
   const qrm::fae_options& fae = s.estimator.fae;  // the paper's: the default settings
   s.estimator_json.add("estimator", "fae").add("delta", fae.delta).add("maxiter", fae.maxiter).add("rescale", fae.rescale);
   const fs::path dir(s.out);

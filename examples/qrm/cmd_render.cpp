@@ -35,8 +35,8 @@ flag_table render_flags() {
       {"seed", "S", "1", "random seed (integer >= 0); pixel p uses stream (S, p)", run},
       {"threads", "T", "0", "worker threads; 0 = all cores (the result does not depend on it)", run},
       {"exposure", "X", "1", "multiply radiance by X before tone mapping the PNGs", run},
-      {"quiet", "", "", "no progress on stderr", run},
   };
+  add_progress_flags(f, run);
   for (const flag& e : estimator_flag_table("ae-steps")) f.push_back(e);
   return f;
 }

@@ -178,12 +178,13 @@ std::string cell_or_dash(const std::optional<std::size_t>& v) {
 
 flag_table scaling_flags() {
   const char* g = "scaling";
-  return {
+  flag_table f{
       {"out", "DIR", "", "output directory for the CSV, Markdown and SVG plots (required)", g},
       {"start", "near_light|centre", "near_light", "the walk's start cell in each scene", g},
       {"no-decompose", "", "", "skip the decomposed (1-qubit + CNOT) counts, the slow part", g},
-      {"quiet", "", "", "no progress on stderr", g},
   };
+  add_progress_flags(f, g);
+  return f;
 }
 
 int cmd_scaling(args& a) {
@@ -196,6 +197,7 @@ int cmd_scaling(args& a) {
   else if (start_name != "near_light")
     throw usage_error("--start must be near_light or centre, got '" + start_name + "'");
   const bool decompose = !a.flag("no-decompose");
+  const qrm::io::progress_options po = progress_from_flags(a);
   const bool quiet = a.flag("quiet");
   qrm::io::ensure_directory(out);  // before the measurements, so a bad --out fails at once
 
@@ -207,8 +209,6 @@ int cmd_scaling(args& a) {
   }
   std::map<key, qrm::scaling_result> results;
   {
-    qrm::io::progress_options po;
-    po.quiet = quiet;
     qrm::io::progress bar("qrm scaling", todo.size(), po);
     for (const auto& [k, c] : todo) {
       results.emplace(k, qrm::measure_scaling_case(c, where));

@@ -2,9 +2,29 @@
 // table (what it accepts, what --help prints) and a run function.
 #pragma once
 
+#include <qrm/io/progress.hpp>
+
 #include "args.hpp"
 
 namespace qrm_cli {
+
+// --quiet and --progress, for every command that shows progress on stderr.
+inline void add_progress_flags(flag_table& f, const char* group) {
+  f.push_back({"quiet", "", "", "no progress on stderr", group});
+  f.push_back({"progress", "", "", "progress lines even when stderr is not a terminal (a log: one line every 10 s)", group});
+}
+
+// Progress as the flags ask: a bar redrawn in place on a terminal; nothing in a log unless
+// --progress; nothing at all with --quiet.
+inline qrm::io::progress_options progress_from_flags(args& a) {
+  const bool quiet = a.flag("quiet"), always = a.flag("progress");
+  if (quiet && always) throw usage_error("give either --quiet or --progress, not both");
+  qrm::io::progress_options o;
+  const bool terminal = qrm::detail::is_terminal(o.out);
+  o.quiet = quiet || (!terminal && !always);
+  o.style = terminal ? qrm::io::progress_style::terminal : qrm::io::progress_style::plain;
+  return o;
+}
 
 struct command {
   const char* name;

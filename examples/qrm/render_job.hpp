@@ -29,6 +29,7 @@
 #include <qrm/walk/model.hpp>
 
 #include "args.hpp"
+#include "commands.hpp"
 #include "estimator_args.hpp"
 #include "scene_arg.hpp"
 
@@ -59,7 +60,7 @@ struct render_settings {
   std::string out = "out";
   qrm::render::tile part{};
   unsigned threads = 0;
-  bool quiet = false;
+  qrm::io::progress_options progress;  // --quiet, --progress
   float exposure = 1.0f;
 
   unsigned effective_steps(unsigned dims) const { return steps ? steps : (dims == 2 ? 3u : 6u); }
@@ -110,7 +111,7 @@ inline render_settings parse_render_settings(args& a) {
   s.out = a.str("out", s.out);
   if (a.has("tile")) s.part = parse_tile(a.str("tile", ""));
   s.threads = static_cast<unsigned>(a.integer("threads", 0, 0, 1024));
-  s.quiet = a.flag("quiet");
+  s.progress = progress_from_flags(a);
   s.exposure = static_cast<float>(a.number("exposure", 1.0));
   if (!(s.exposure > 0)) throw usage_error("--exposure must be positive, got " + a.str("exposure", ""));
   const parsed_estimator e = parse_estimator_args(a, "", "fae", "ae-steps");
@@ -269,8 +270,7 @@ inline lightmap_summary render_lightmap(const render_settings& s, const qrm::sce
   o.threads = s.threads;
   o.part = s.part;
   const auto range = qrm::render::tile_pixels(sc.voxel_count(), s.part);
-  qrm::io::progress_options po;
-  po.quiet = s.quiet;
+  const qrm::io::progress_options po = s.progress;
   qrm::io::progress bar("light map " + sc.name(), (range.end - range.begin) * 3, po);
   o.progress = [&](std::size_t finished, std::size_t) { bar.advance(finished); };
   const auto t0 = std::chrono::steady_clock::now();
@@ -346,8 +346,7 @@ inline image3d_summary render_images_3d(const render_settings& s, const qrm::sce
   std::vector<std::string> wanted;
   for (const char* m : {"exact", "mc", "emulated", "quantum"})
     if (wants(s, m)) wanted.push_back(m);
-  qrm::io::progress_options po;
-  po.quiet = s.quiet;
+  const qrm::io::progress_options po = s.progress;
   qrm::io::image exact;
   for (const std::string& m : wanted) {
     const auto t0 = std::chrono::steady_clock::now();

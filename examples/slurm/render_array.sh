@@ -44,9 +44,15 @@ qrm=$(realpath "$qrm")
 mkdir -p "$out/parts" "$out/slurm"
 out=$(realpath "$out")
 
-# The render flags, quoted for the shell that runs the job.
+# The render flags, quoted for the shell that runs the job; progress lines in the task logs
+# (every 10 s) unless the flags say --quiet.
 flags=""
-for a in "$@"; do flags+=" $(printf '%q' "$a")"; done
+progress=" --progress"
+for a in "$@"; do
+  flags+=" $(printf '%q' "$a")"
+  [[ $a != --quiet && $a != --progress ]] || progress=""
+done
+flags+=$progress
 q_qrm=$(printf '%q' "$qrm")
 q_out=$(printf '%q' "$out")
 
