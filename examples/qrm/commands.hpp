@@ -42,6 +42,7 @@ int cmd_render(args&);
 int cmd_merge(args&);
 int cmd_figures(args&);
 int cmd_scaling(args&);
+int cmd_resources(args&);
 
 flag_table lightmap_flags();
 flag_table circuit_flags();
@@ -50,5 +51,6 @@ flag_table render_flags();
 flag_table merge_flags();
 flag_table figures_flags();
 flag_table scaling_flags();
+flag_table resources_flags();
 
 }  // namespace qrm_cli

@@ -35,6 +35,8 @@ const command commands[] = {
      merge_flags, cmd_merge},
     {"scaling", "width and depth of A over s, p and d, fitted against the paper's O(s(p^3 + d))",
      "qrm scaling --out scaling", scaling_flags, cmd_scaling},
+    {"resources", "what one cell's amplitude estimate would cost on a fault-tolerant quantum computer",
+     "qrm resources --scene paper_8x8 --x 3 --y 4 --preset ion --format text", resources_flags, cmd_resources},
     {"version", "print the version", "qrm version", no_flags, cmd_version},
 };
 
@@ -45,7 +47,7 @@ void print_usage(std::FILE* out) {
                "       qrm <command> --help     the command's flags, defaults and an example\n"
                "       qrm --version\n\ncommands:\n",
                qrm::version);
-  for (const auto& c : commands) std::fprintf(out, "  %-9s %s\n", c.name, c.summary);
+  for (const auto& c : commands) std::fprintf(out, "  %-10s %s\n", c.name, c.summary);
 }
 
 // One flag's line: "  --name VALUE" padded, the meaning, and the default.

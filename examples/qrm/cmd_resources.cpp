@@ -1,0 +1,185 @@
+// qrm resources: what one light-map cell's amplitude estimate would cost on a fault-tolerant
+// quantum computer (qrm/resources.hpp: Clifford+T counts, surface-code distance, T factories,
+// physical qubits and time), for the pruned circuit chosen and the unpruned one.
+#include <array>
+#include <cinttypes>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+#include <qrm/backends/compact.hpp>
+#include <qrm/estimation/estimator.hpp>
+#include <qrm/estimation/oracle.hpp>
+#include <qrm/resources.hpp>
+#include <qrm/walk/circuit.hpp>
+#include <qrm/walk/lightmap.hpp>
+
+#include "commands.hpp"
+#include "estimator_args.hpp"
+#include "json.hpp"
+#include "scene_arg.hpp"
+
+namespace qrm_cli {
+
+namespace {
+
+qrm::hardware hardware_from_flags(args& a) {
+  const std::string preset = a.str("preset", "superconducting");
+  const bool custom = preset == "custom";
+  if (!custom && preset != "superconducting" && preset != "ion")
+    throw usage_error("--preset must be superconducting, ion or custom, got '" + preset + "'");
+  for (const char* f : {"physical-error", "cycle-time"})
+    if (a.has(f) != custom)
+      throw usage_error(custom ? "--preset custom needs --physical-error and --cycle-time"
+                               : std::string("--") + f + " applies to --preset custom; the " + preset +
+                                     " preset has its own");
+  if (!custom) return qrm::hardware_preset(preset);
+  qrm::hardware hw{"custom", a.number("physical-error", 0), a.number("cycle-time", 0)};
+  if (!(hw.physical_error > 0 && hw.physical_error < 0.01))
+    throw usage_error("--physical-error must be in (0, 0.01), below the surface code's threshold; got " +
+                      a.str("physical-error", ""));
+  if (!(hw.cycle_seconds > 0))
+    throw usage_error("--cycle-time must be a positive number of seconds, got " + a.str("cycle-time", ""));
+  return hw;
+}
+
+json_object cost_json(const qrm::estimate_cost& e, std::size_t channels) {
+  json_object j;
+  j.add("logical_qubits", std::max(e.a.counts.logical_qubits, e.q.counts.logical_qubits));
+  j.add("cnot_count", e.a.counts.cnot_count).add("cnot_depth", e.a.counts.cnot_depth);
+  j.add("toffoli_count", e.a.counts.toffoli_count).add("rotation_count", e.a.counts.rotation_count);
+  j.add("t_count", e.a.t.t_count).add("t_depth", e.a.t.t_depth).add("t_per_rotation", e.a.t.t_per_rotation);
+  json_object q;
+  q.add("cnot_count", e.q.counts.cnot_count).add("toffoli_count", e.q.counts.toffoli_count);
+  q.add("rotation_count", e.q.counts.rotation_count).add("t_count", e.q.t.t_count).add("t_depth", e.q.t.t_depth);
+  j.add("grover_iterate", q);
+  j.add("code_distance", e.plan.code_distance).add("layout_qubits", e.plan.layout_qubits);
+  j.add("distillation_levels", e.plan.distillation_levels).add("factory_units", e.plan.factory_units);
+  j.add("data_physical_qubits", e.plan.data_physical_qubits).add("factory_physical_qubits", e.plan.factory_physical_qubits);
+  j.add("physical_qubits", e.plan.physical_qubits);
+  j.add("seconds_per_a", e.a.seconds).add("seconds_per_grover", e.q.seconds);
+  j.add("seconds_per_longest_run", e.plan.seconds).add("seconds_per_estimate", e.seconds);
+  j.add("seconds_per_cell", e.seconds * static_cast<double>(channels));
+  return j;
+}
+
+void print_text(const std::string& label, const qrm::estimate_cost& e, std::size_t channels) {
+  std::printf("%s\n", label.c_str());
+  std::printf("  A: %zu logical qubits, %zu CNOTs, %zu Toffolis, %zu rotations (%" PRIu64 " T each): T-count %" PRIu64
+              ", T-depth %" PRIu64 "\n",
+              std::max(e.a.counts.logical_qubits, e.q.counts.logical_qubits), e.a.counts.cnot_count,
+              e.a.counts.toffoli_count, e.a.counts.rotation_count, e.a.t.t_per_rotation, e.a.t.t_count, e.a.t.t_depth);
+  std::printf("  Q: T-count %" PRIu64 ", T-depth %" PRIu64 "\n", e.q.t.t_count, e.q.t.t_depth);
+  std::printf("  surface code: distance %u, %" PRIu64 " physical qubits (%" PRIu64 " data, %" PRIu64
+              " in %" PRIu64 " 15-to-1 units over %u levels)\n",
+              e.plan.code_distance, e.plan.physical_qubits, e.plan.data_physical_qubits, e.plan.factory_physical_qubits,
+              e.plan.factory_units, e.plan.distillation_levels);
+  std::printf("  time: A %.4g s, Q %.4g s, the estimate %.4g s (%.3g days), the cell (%zu channels) %.4g s\n",
+              e.a.seconds, e.q.seconds, e.seconds, e.seconds / 86400, channels, e.seconds * static_cast<double>(channels));
+}
+
+}  // namespace
+
+flag_table resources_flags() {
+  const char* c = "circuit";
+  const char* h = "hardware and costing";
+  flag_table f{
+      {"scene", "NAME|FILE", "paper_8x8", "paper_4x4, paper_8x8 or a 2D scene file", c},
+      {"x", "X", "3", "the cell's column", c},
+      {"y", "Y", "4", "the cell's row", c},
+      {"steps", "S", "3", "walk steps (1..16)", c},
+      {"channel", "C", "0", "colour channel (0 R, 1 G, 2 B) whose circuit is costed", c},
+      {"prune", "none|scene|reachable", "reachable", "the circuit costed (the unpruned one is always reported too)", c},
+      {"preset", "superconducting|ion|custom", "superconducting",
+       "superconducting: p = 1e-3, 1 us per syndrome cycle; ion: 1e-4, 100 us; custom: the two flags below", h},
+      {"physical-error", "P", "", "--preset custom: physical error rate per operation, in (0, 0.01)", h},
+      {"cycle-time", "SECONDS", "", "--preset custom: one syndrome-extraction cycle", h},
+      {"error", "E", "0.001", "total error budget of the longest circuit run, in (0, 1)", h},
+      {"toffoli", "7t|4t", "7t", "Toffoli as 7 T gates (T-depth 3) or 4 with an ancilla (T-depth 2)", h},
+      {"synthesis", "mixed|ross-selinger", "mixed",
+       "T gates per rotation: ceil(0.53 log2(1/e) + 5.3) (Kliuchnikov et al. 2022) or ceil(3 log2(1/e)) (Ross-Selinger)", h},
+      {"seed", "S", "1", "random seed of the estimate whose shots are costed", h},
+      {"format", "json|text", "json", "output format", h},
+  };
+  for (const flag& e : estimator_flag_table("ae-steps")) f.push_back(e);
+  return f;
+}
+
+int cmd_resources(args& a) {
+  a.allow(resources_flags());
+  const qrm::scene sc = scene_from_arg(a.str("scene", "paper_8x8"));
+  if (sc.dims() != 2) throw usage_error("--scene must be a 2D scene, got the 3D scene '" + sc.name() + "'");
+  const auto n = static_cast<std::int64_t>(sc.size()) - 1;
+  const std::array<unsigned, 3> cell{static_cast<unsigned>(a.integer("x", 3, 0, n)),
+                                     static_cast<unsigned>(a.integer("y", 4, 0, n)), 0};
+  qrm::walk_options o;
+  o.steps = static_cast<unsigned>(a.integer("steps", 3, 1, 16));
+  o.channel = static_cast<int>(a.integer("channel", 0, 0, 2));
+  o.prune = pruning_from_arg(a.str("prune", "reachable"));
+  const qrm::hardware hw = hardware_from_flags(a);
+  const double eps = a.number("error", 1e-3);
+  if (!(eps > 0 && eps < 1)) throw usage_error("--error must be in (0, 1), got " + a.str("error", ""));
+  qrm::clifford_t_rules rules;
+  const std::string toffoli = a.str("toffoli", "7t"), synthesis = a.str("synthesis", "mixed");
+  if (toffoli != "7t" && toffoli != "4t") throw usage_error("--toffoli must be 7t or 4t, got '" + toffoli + "'");
+  if (synthesis != "mixed" && synthesis != "ross-selinger")
+    throw usage_error("--synthesis must be mixed or ross-selinger, got '" + synthesis + "'");
+  rules.toffoli = toffoli == "7t" ? qrm::toffoli_costing::seven_t : qrm::toffoli_costing::four_t;
+  rules.synthesis = synthesis == "mixed" ? qrm::rotation_synthesis::mixed_fallback : qrm::rotation_synthesis::ross_selinger;
+  const auto seed = static_cast<std::uint64_t>(a.integer("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
+  const std::string format = a.str("format", "json");
+  if (format != "json" && format != "text") throw usage_error("--format must be json or text, got '" + format + "'");
+  const parsed_estimator est = parse_estimator_args(a, "", "fae", "ae-steps");
+
+  const qrm::walk_model m(sc, qrm::king_2d());
+  const qrm::walk_start start = m.light_map_start(cell);
+  const std::size_t channels = 3;
+  const bool rescaled = est.settings.kind == qrm::estimator_kind::fae && est.settings.fae.rescale;
+  // The estimate whose shots are costed: the estimator run on this cell's exact P(out = 1), as
+  // qrm render's light map runs it (same shot counts; the analytic oracle draws the same law).
+  auto cost_at = [&](qrm::pruning prune) {
+    qrm::walk_options wo = o;
+    wo.prune = prune;
+    const auto w = qrm::make_walk_program(m, start, wo);
+    const qrm::estimation_problem problem{w.circuit, {qrm::control{w.out, true}}};
+    qrm::analytic_oracle oracle(qrm::walk_probability<qrm::compact_backend>(w));
+    qrm::rng g(seed);
+    const qrm::estimation_result r = qrm::estimate_amplitude(oracle, est.settings, g);
+    // FAE with rescaling runs A with an extra ancilla rotated by Ry(2 asin 1/4) (fae.hpp).
+    const qrm::estimation_problem costed = rescaled ? qrm::rescaled_problem(problem, 0.25) : problem;
+    return std::make_pair(r, qrm::cost_of_estimate(costed, r, rules, hw, eps));
+  };
+  const auto [result, chosen] = cost_at(o.prune);
+  const auto unpruned = cost_at(qrm::pruning::none).second;
+
+  if (format == "text") {
+    std::printf("%s cell (%u, %u), %u steps, channel %d; %s (p = %s, %s s per syndrome cycle), error budget %s\n",
+                sc.name().c_str(), cell[0], cell[1], o.steps, o.channel, hw.name.c_str(),
+                json_number(hw.physical_error).c_str(), json_number(hw.cycle_seconds).c_str(), json_number(eps).c_str());
+    std::printf("estimate: %s, %" PRIu64 " shots, %" PRIu64 " Grover calls, largest power %" PRIu64 "\n",
+                result.estimator.c_str(), result.shots, result.grover_calls, chosen.max_power);
+    print_text(std::string("pruning ") + qrm::pruning_name(o.prune), chosen, channels);
+    print_text("unpruned", unpruned, channels);
+    return 0;
+  }
+  json_object j;
+  j.add("scene", sc.name()).add("x", cell[0]).add("y", cell[1]).add("steps", o.steps).add("channel", o.channel);
+  j.add("prune", qrm::pruning_name(o.prune)).add_members(cost_json(chosen, channels));
+  j.add("unpruned", cost_json(unpruned, channels));
+  json_object estimate = est.json();
+  estimate.add("shots", result.shots).add("grover_calls", result.grover_calls).add("max_power", chosen.max_power);
+  j.add("estimate", estimate);
+  json_object assumptions;
+  assumptions.add("preset", hw.name).add("physical_error", hw.physical_error).add("cycle_seconds", hw.cycle_seconds);
+  assumptions.add("error_budget", eps).add("error_logical", chosen.plan.eps_logical);
+  assumptions.add("error_distillation", chosen.plan.eps_distillation).add("error_synthesis", chosen.plan.eps_synthesis);
+  assumptions.add("rotation_error", chosen.rotation_eps).add("toffoli", toffoli).add("synthesis", synthesis);
+  assumptions.add("a_costed", rescaled ? "A with FAE's rescaling ancilla" : "A");
+  assumptions.add("model", "include/qrm/resources/surface_code.hpp: one T state per logical cycle, P_L = 0.03 (p/0.01)^((d+1)/2), "
+                           "15-to-1 factories of 11 patches; seconds_per_cell = channels x the estimate of channel's circuit");
+  j.add("assumptions", assumptions);
+  std::printf("%s\n", j.str().c_str());
+  return 0;
+}
+
+}  // namespace qrm_cli

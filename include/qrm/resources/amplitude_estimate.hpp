@@ -1,0 +1,65 @@
+// qrm/resources/amplitude_estimate.hpp: what one amplitude estimate would cost on a surface-code
+// machine: the Clifford+T content of A and of the Grover iterate Q (clifford_t.hpp), one code
+// distance and factory for the longest circuit the estimate runs (Q^k A with the largest k; all
+// shorter runs fit the same plan), and the wall time of all its shots, one after another:
+//   seconds = shots * t(A) + grover_calls * t(Q),
+// with t(C) = T-count(C) logical cycles (surface_code.hpp), shots and Grover calls as the
+// estimator reports them (estimation_result). The rotation-synthesis budget is shared by the
+// rotations of the longest run.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+
+#include "../circuit/program.hpp"
+#include "../estimation/grover.hpp"
+#include "../estimation/problem.hpp"
+#include "../estimation/result.hpp"
+#include "clifford_t.hpp"
+#include "surface_code.hpp"
+
+namespace qrm {
+
+// The Clifford+T content and T cost of one circuit.
+struct circuit_cost {
+  clifford_t_counts counts;
+  t_cost t;
+  double seconds = 0;  // one application on the planned machine
+};
+
+struct estimate_cost {
+  circuit_cost a, q;            // A and the Grover iterate Q = A S0 A^dagger S_chi
+  std::uint64_t max_power = 0;  // the largest Grover power of the estimate
+  std::uint64_t shots = 0, grover_calls = 0;
+  double rotation_eps = 0;      // synthesis error allowed per rotation
+  surface_code_plan plan;       // for Q^max_power A
+  double seconds = 0;           // the whole estimate
+};
+
+// cost_of_estimate(problem, result, rules, hw, error_budget): see the header comment. `result`
+// gives the shots, Grover calls and powers of the estimate (estimate_amplitude's result).
+template <int = 0>
+inline estimate_cost cost_of_estimate(const estimation_problem& problem, const estimation_result& result,
+                                      const clifford_t_rules& rules, const hardware& hw, double error_budget) {
+  estimate_cost e;
+  const program a = clifford_t_lowering(problem.a);
+  const program q = clifford_t_lowering(grover_operator(problem));
+  e.a.counts = clifford_t_counts_of(a, rules);
+  e.q.counts = clifford_t_counts_of(q, rules);
+  for (const round_record& r : result.rounds) e.max_power = std::max(e.max_power, r.power);
+  e.shots = result.shots;
+  e.grover_calls = result.grover_calls;
+  const std::uint64_t rotations = e.a.counts.rotation_count + e.max_power * e.q.counts.rotation_count;
+  const error_split split = split_error_budget(error_budget, rotations > 0);
+  e.rotation_eps = rotations > 0 ? split.synthesis / static_cast<double>(rotations) : 0;
+  e.a.t = t_cost_of(a, e.a.counts, rules, e.rotation_eps);
+  e.q.t = t_cost_of(q, e.q.counts, rules, e.rotation_eps);
+  const std::uint64_t qubits = std::max(e.a.counts.logical_qubits, e.q.counts.logical_qubits);
+  e.plan = plan_surface_code(hw, qubits, e.a.t.t_count + e.max_power * e.q.t.t_count, split);
+  e.a.seconds = static_cast<double>(std::max<std::uint64_t>(e.a.t.t_count, 1)) * e.plan.seconds_per_logical_cycle;
+  e.q.seconds = static_cast<double>(std::max<std::uint64_t>(e.q.t.t_count, 1)) * e.plan.seconds_per_logical_cycle;
+  e.seconds = static_cast<double>(e.shots) * e.a.seconds + static_cast<double>(e.grover_calls) * e.q.seconds;
+  return e;
+}
+
+}  // namespace qrm
