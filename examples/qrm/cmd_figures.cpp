@@ -234,6 +234,20 @@ int cmd_figures(args& a) {
                  fmt(pt.seconds, "%.3g") + " | " + fmt(pt.rmse, "%.3g") + " |");
     log.line("");
   }
+  // What it would cost on a fault-tolerant quantum computer, against Monte Carlo on this CPU.
+  {
+    crossover_request r;
+    r.scene = qrm::paper_8x8();
+    r.repetitions = quick ? 8 : 64;
+    r.seed = s.seed;
+    r.threads = s.threads;
+    r.out = s.out;
+    r.progress = s.progress;
+    const crossover_result x = run_crossover(r);
+    log.line("## Crossover: fault-tolerant amplitude estimation against Monte Carlo (crossover.md, crossover.svg)");
+    log.line("");
+    log.line(x.markdown.substr(x.markdown.find("Assumptions:")));
+  }
   // Panels for the README: the methods side by side, each 128 pixels wide.
   auto panel = [&](const std::string& out_name, const std::vector<std::string>& bases) {
     std::vector<qrm::io::image> imgs;

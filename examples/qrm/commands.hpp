@@ -2,7 +2,12 @@
 // table (what it accepts, what --help prints) and a run function.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
 #include <qrm/io/progress.hpp>
+#include <qrm/walk/scene.hpp>
 
 #include "args.hpp"
 
@@ -43,6 +48,24 @@ int cmd_merge(args&);
 int cmd_figures(args&);
 int cmd_scaling(args&);
 int cmd_resources(args&);
+int cmd_crossover(args&);
+
+// The crossover study (cmd_crossover.cpp; qrm figures runs it too): writes crossover.csv,
+// crossover.md and crossover.svg into `out`.
+struct crossover_request {
+  qrm::scene scene;
+  unsigned x = 3, y = 4, steps = 3;
+  double error_budget = 1e-3;
+  std::size_t repetitions = 64;
+  std::uint64_t seed = 1;
+  unsigned threads = 0;
+  std::string out = "crossover";
+  qrm::io::progress_options progress;
+};
+struct crossover_result {
+  std::string summary_json, markdown;
+};
+crossover_result run_crossover(const crossover_request& r);
 
 flag_table lightmap_flags();
 flag_table circuit_flags();
@@ -52,5 +75,6 @@ flag_table merge_flags();
 flag_table figures_flags();
 flag_table scaling_flags();
 flag_table resources_flags();
+flag_table crossover_flags();
 
 }  // namespace qrm_cli

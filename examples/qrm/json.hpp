@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <concepts>
+#include <cstddef>
 #include <cstdio>
 #include <string>
 #include <string_view>
@@ -49,6 +50,7 @@ inline std::string json_text(std::string_view v) { return json_string(v); }
 inline std::string json_text(const char* v) { return json_string(v); }
 inline std::string json_text(const std::string& v) { return json_string(v); }
 inline std::string json_text(bool v) { return v ? "true" : "false"; }
+inline std::string json_text(std::nullptr_t) { return "null"; }
 template <std::floating_point T>
 std::string json_text(T v) {
   return json_number(static_cast<double>(v));

@@ -37,6 +37,8 @@ const command commands[] = {
      "qrm scaling --out scaling", scaling_flags, cmd_scaling},
     {"resources", "what one cell's amplitude estimate would cost on a fault-tolerant quantum computer",
      "qrm resources --scene paper_8x8 --x 3 --y 4 --preset ion --format text", resources_flags, cmd_resources},
+    {"crossover", "at what error fault-tolerant amplitude estimation would beat Monte Carlo on this CPU",
+     "qrm crossover --scene paper_8x8 --x 3 --y 4 --out crossover", crossover_flags, cmd_crossover},
     {"version", "print the version", "qrm version", no_flags, cmd_version},
 };
 

@@ -1,0 +1,344 @@
+// qrm crossover: at what error would amplitude estimation on a fault-tolerant quantum computer
+// beat Monte Carlo on this CPU, for one light-map cell?
+//
+// Quantum: each estimator at a sweep of budgets, `repetitions` seeded runs on the cell's exact
+// P(out = 1) (analytic oracle: the same statistics as simulating every Grover iteration, tested
+// in test_estimation); the RMS error in radiance units, and the projected hardware time of the
+// mean run (qrm/resources: Clifford+T lowering of A and Q, surface-code plan per preset).
+// Classical: the random walk with the circuit's transition probabilities (qrm::monte_carlo) at
+// 4^2..4^9 paths, its RMS error against the exact path sum, and its measured time on one core.
+// Crossover: both curves are fitted as power laws T = c eps^b (least squares in log-log); the
+// quantum method is cheaper below eps* where the fits meet, if its slope is shallower. eps* is
+// flagged when it lies outside the errors actually measured (an extrapolation).
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <qrm/backends/compact.hpp>
+#include <qrm/estimation/estimator.hpp>
+#include <qrm/estimation/oracle.hpp>
+#include <qrm/io/csv.hpp>
+#include <qrm/io/progress.hpp>
+#include <qrm/io/svg_plot.hpp>
+#include <qrm/resources.hpp>
+#include <qrm/support/parallel.hpp>
+#include <qrm/walk/circuit.hpp>
+#include <qrm/walk/classical.hpp>
+#include <qrm/walk/lightmap.hpp>
+
+#include "commands.hpp"
+#include "json.hpp"
+#include "scene_arg.hpp"
+
+namespace qrm_cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// One budget setting of one method, averaged over the repetitions.
+struct measured {
+  std::string method, setting;
+  double rmse = 0;          // radiance units
+  double shots = 0, grover_calls = 0;  // quantum: means per estimate
+  std::uint64_t max_power = 0;         // quantum: largest over the repetitions
+  double paths = 0;                    // classical
+  double cpu_seconds = 0;              // classical: mean time of one estimate on one core
+};
+
+struct cell_data {
+  qrm::walk_start start;
+  qrm::walk_program program;
+  double exact = 0, classical_mean = 0, radiance_scale = 1;
+};
+
+std::vector<std::pair<std::string, qrm::estimator_settings>> quantum_sweep() {
+  std::vector<std::pair<std::string, qrm::estimator_settings>> out;
+  for (unsigned l = 1; l <= 9; ++l) {
+    qrm::estimator_settings s;
+    s.kind = qrm::estimator_kind::fae;
+    s.fae.maxiter = l;
+    s.fae.delta = 0.05;
+    out.push_back({"maxiter=" + std::to_string(l), s});
+  }
+  for (int i = 0; i < 8; ++i) {
+    qrm::estimator_settings s;
+    s.kind = qrm::estimator_kind::iqae;
+    s.iqae.epsilon = 0.05 * std::pow(0.5, i);
+    s.iqae.alpha = 0.01;
+    out.push_back({"epsilon=" + json_number(s.iqae.epsilon), s});
+  }
+  for (unsigned m = 1; m <= 9; ++m) {
+    qrm::estimator_settings s;
+    s.kind = qrm::estimator_kind::mlae;
+    s.mlae.m = m;
+    out.push_back({"m=" + std::to_string(m), s});
+  }
+  return out;
+}
+
+// Three significant digits, for people.
+std::string short_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+// A power law through the points, in log-log: seconds = 10^intercept * rmse^slope.
+qrm::io::line_fit fit(const std::vector<double>& rmse, const std::vector<double>& seconds) {
+  return qrm::io::fit_log_log(rmse, seconds);
+}
+
+}  // namespace
+
+flag_table crossover_flags() {
+  const char* c = "cell";
+  const char* r = "run and output";
+  flag_table f{
+      {"scene", "NAME|FILE", "paper_8x8", "paper_4x4, paper_8x8 or a 2D scene file", c},
+      {"x", "X", "3", "the cell's column", c},
+      {"y", "Y", "4", "the cell's row", c},
+      {"steps", "S", "3", "walk steps (1..8)", c},
+      {"error", "E", "0.001", "the fault-tolerant error budget of each circuit run, in (0, 1)", c},
+      {"repetitions", "R", "64", "seeded runs per budget setting (2..100000)", r},
+      {"seed", "S", "1", "random seed (integer >= 0)", r},
+      {"threads", "T", "0", "worker threads; 0 = all cores", r},
+      {"out", "DIR", "crossover", "output directory (created): crossover.csv, crossover.md, crossover.svg", r},
+  };
+  add_progress_flags(f, r);
+  return f;
+}
+
+crossover_result run_crossover(const crossover_request& req) {
+  const qrm::scene& sc = req.scene;
+  const std::array<unsigned, 3> xy{req.x, req.y, 0};
+  const unsigned steps = req.steps;
+  const double eps = req.error_budget;
+  const std::size_t reps = req.repetitions;
+  const std::uint64_t seed = req.seed;
+  const unsigned threads = req.threads;
+  const fs::path out = req.out;
+  const qrm::io::progress_options po = req.progress;
+  const qrm::walk_model m(sc, qrm::king_2d());
+  cell_data cell;
+  cell.start = m.light_map_start(xy);
+  qrm::walk_options wo;
+  wo.steps = steps;
+  cell.program = qrm::make_walk_program(m, cell.start, wo);
+  cell.exact = qrm::walk_probability<qrm::compact_backend>(cell.program);
+  cell.radiance_scale = static_cast<double>(steps) * cell.program.tables.emission_scale;
+  cell.classical_mean = qrm::path_sum(m, cell.start, steps, 0);
+  if (!(cell.exact > 0))
+    throw usage_error("cell (" + std::to_string(xy[0]) + ", " + std::to_string(xy[1]) + ") of " + sc.name() +
+                      " receives no light in " + std::to_string(steps) + " steps: nothing to estimate");
+  qrm::io::ensure_directory(out);
+
+  const auto sweep = quantum_sweep();
+  const std::vector<std::uint64_t> path_counts{16, 64, 256, 1024, 4096, 16384, 65536, 262144};
+  qrm::io::progress bar("crossover " + sc.name(), (sweep.size() + path_counts.size()) * reps, po);
+
+  // Quantum: errors and call counts (hardware time is computed per preset below).
+  std::vector<measured> quantum;
+  for (const auto& [label, s] : sweep) {
+    std::vector<double> sq(reps), shots(reps), grover(reps);
+    std::vector<std::uint64_t> power(reps);
+    qrm::detail::parallel_jobs(reps, threads, [&, &s = s](std::size_t j) {
+      qrm::rng g = qrm::rng::stream(seed, j);
+      qrm::analytic_oracle oracle(cell.exact);
+      const qrm::estimation_result r = qrm::estimate_amplitude(oracle, s, g);
+      const double err = (r.estimate - cell.exact) * cell.radiance_scale;
+      sq[j] = err * err;
+      shots[j] = static_cast<double>(r.shots + r.check_shots);
+      grover[j] = static_cast<double>(r.grover_calls);
+      for (const auto& round : r.rounds) power[j] = std::max(power[j], round.power);
+      bar.advance();
+    });
+    measured p{std::string(qrm::estimator_name(s.kind)), label};
+    for (std::size_t j = 0; j < reps; ++j) {  // fixed order: deterministic
+      p.rmse += sq[j];
+      p.shots += shots[j];
+      p.grover_calls += grover[j];
+      p.max_power = std::max(p.max_power, power[j]);
+    }
+    p.rmse = std::sqrt(p.rmse / static_cast<double>(reps));
+    p.shots /= static_cast<double>(reps);
+    p.grover_calls /= static_cast<double>(reps);
+    quantum.push_back(p);
+  }
+
+  // Classical Monte Carlo: errors and measured time per estimate on one core.
+  std::vector<measured> classical;
+  for (const std::uint64_t paths : path_counts) {
+    std::vector<double> sq(reps), secs(reps);
+    qrm::detail::parallel_jobs(reps, threads, [&](std::size_t j) {
+      qrm::rng g = qrm::rng::stream(seed + 1, j);
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto est = qrm::monte_carlo(m, cell.start, steps, 0, paths, g);
+      secs[j] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      sq[j] = (est.mean - cell.classical_mean) * (est.mean - cell.classical_mean);
+      bar.advance();
+    });
+    measured p{"mc", "paths=" + std::to_string(paths)};
+    p.paths = static_cast<double>(paths);
+    for (std::size_t j = 0; j < reps; ++j) {
+      p.rmse += sq[j];
+      p.cpu_seconds += secs[j];
+    }
+    p.rmse = std::sqrt(p.rmse / static_cast<double>(reps));
+    p.cpu_seconds /= static_cast<double>(reps);
+    classical.push_back(p);
+  }
+  bar.finish();
+
+  // Hardware time of every quantum point, per preset.
+  const qrm::clifford_t_rules rules;
+  const qrm::estimation_problem problem{cell.program.circuit, {qrm::control{cell.program.out, true}}};
+  // FAE with rescaling runs A with an extra ancilla (fae.hpp); the others run A as it is.
+  const qrm::estimate_circuits plain = qrm::lower_estimate_circuits(problem, rules);
+  const qrm::estimate_circuits rescaled = qrm::lower_estimate_circuits(qrm::rescaled_problem(problem, 0.25), rules);
+  const std::vector<qrm::hardware> presets{qrm::hardware_preset("superconducting"), qrm::hardware_preset("ion")};
+
+  qrm::io::table csv({"method", "setting", "platform", "rmse", "seconds", "shots", "grover_calls", "max_power", "paths",
+                      "code_distance", "physical_qubits"});
+  std::vector<double> mc_e, mc_t;
+  for (const measured& p : classical) {
+    csv.add_row({p.method, p.setting, "cpu_one_core", p.rmse, p.cpu_seconds, 0, 0, 0, p.paths, 0, 0});
+    mc_e.push_back(p.rmse);
+    mc_t.push_back(p.cpu_seconds);
+  }
+  const qrm::io::line_fit mc_fit = fit(mc_e, mc_t);
+  const double eps_min_mc = *std::min_element(mc_e.begin(), mc_e.end());
+
+  qrm::io::plot plot;
+  plot.title = sc.name() + " cell (" + std::to_string(xy[0]) + ", " + std::to_string(xy[1]) + "), " +
+               std::to_string(steps) + " steps: time for an RMS error";
+  plot.x_label = "RMS error (radiance)";
+  plot.y_label = "seconds per estimate";
+  plot.x_scale = plot.y_scale = qrm::io::axis_scale::log10;
+  plot.series.push_back({"Monte Carlo, one CPU core (measured)", mc_e, mc_t, "#000000", qrm::io::marker::square, true, true});
+
+  std::string md = "# Crossover: fault-tolerant amplitude estimation against Monte Carlo on a CPU\n\n";
+  md += "Made by `qrm crossover --scene " + sc.name() + " --x " + std::to_string(xy[0]) + " --y " +
+        std::to_string(xy[1]) + " --steps " + std::to_string(steps) + " --error " + json_number(eps) +
+        " --repetitions " + std::to_string(reps) + " --seed " + std::to_string(seed) + "`, channel 0.\n\n";
+  md += "Assumptions: Clifford+T with Toffoli = 7 T and rotations ceil(0.53 log2(1/e) + 5.3) T; surface code with "
+        "error budget " + json_number(eps) + " per circuit run split in thirds, P_L = 0.03 (p/0.01)^((d+1)/2), one T "
+        "state per logical cycle, 15-to-1 factories (include/qrm/resources/surface_code.hpp); shots run one after "
+        "another on one machine. Monte Carlo: the classical random walk with the circuit's transition "
+        "probabilities on one core of the machine that ran this command. Errors are RMS over the repetitions, in "
+        "radiance units; each curve is fitted as a power law T = c eps^b.\n\n";
+  md += "Monte Carlo fit: slope " + short_number(mc_fit.slope) + " (1/eps^2 is -2), r^2 = " +
+        short_number(mc_fit.r_squared) + ", measured down to eps = " + short_number(eps_min_mc) + ".\n\n";
+  md += "| estimator | platform | fit slope | crossover eps* | quantum time at eps* | measured eps range | verdict |\n";
+  md += "|---|---|---|---|---|---|---|\n";
+
+  json_object summary;
+  summary.add("scene", sc.name()).add("x", xy[0]).add("y", xy[1]).add("steps", steps).add("error_budget", eps);
+  summary.add("mc_slope", mc_fit.slope);
+  json_array crossings;
+  struct {
+    double eps = 0;
+    std::string label;
+    qrm::io::line_fit fit;
+  } best;
+  const char* colours[] = {"#1f4e9c", "#c8412b", "#2a8a3e"};
+  const char* ion_colours[] = {"#7ea6e0", "#e89a8c", "#8fcf9c"};
+  for (const qrm::hardware& hw : presets) {
+    int k = 0;
+    for (const char* method : {"fae", "iqae", "mlae"}) {
+      std::vector<double> e, t;
+      for (const measured& p : quantum) {
+        if (p.method != method) continue;
+        const bool is_fae = p.method == "fae";
+        const auto cost = qrm::cost_of_estimate(is_fae ? rescaled : plain, p.shots, p.grover_calls, p.max_power, rules,
+                                                hw, eps);
+        csv.add_row({p.method, p.setting, hw.name, p.rmse, cost.seconds, p.shots, p.grover_calls, p.max_power, 0,
+                     cost.plan.code_distance, cost.plan.physical_qubits});
+        if (p.rmse > 0) {
+          e.push_back(p.rmse);
+          t.push_back(cost.seconds);
+        }
+      }
+      const qrm::io::line_fit q = fit(e, t);
+      const double lo = *std::min_element(e.begin(), e.end()), hi = *std::max_element(e.begin(), e.end());
+      std::string verdict, at, time_at;
+      json_object c;
+      c.add("estimator", method).add("platform", hw.name).add("slope", q.slope);
+      if (q.slope > mc_fit.slope) {
+        // log10 T: q.intercept + q.slope x = mc.intercept + mc.slope x.
+        const double x = (mc_fit.intercept - q.intercept) / (q.slope - mc_fit.slope);
+        const double eps_star = std::pow(10.0, x), t_star = std::pow(10.0, q.intercept + q.slope * x);
+        const bool measured_range = eps_star >= lo && eps_star <= hi && eps_star >= eps_min_mc;
+        at = short_number(eps_star);
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%.3g s (%.3g years)", t_star, t_star / (365.25 * 86400));
+        time_at = buf;
+        verdict = std::string("quantum cheaper below eps*") + (measured_range ? "" : " (extrapolated: outside the measured errors)");
+        c.add("crossover_eps", eps_star).add("seconds_at_crossover", t_star).add("extrapolated", !measured_range);
+        if (eps_star > best.eps) best = {eps_star, std::string(method) + ", " + hw.name, q};
+      } else {
+        at = "none";
+        time_at = "-";
+        verdict = "no crossover: the quantum curve is not shallower";
+        c.add("crossover_eps", nullptr);
+      }
+      crossings.push(c);
+      char range[64];
+      std::snprintf(range, sizeof range, "%.3g .. %.3g", lo, hi);
+      md += "| " + std::string(method) + " | " + hw.name + " | " + short_number(q.slope) + " | " + at + " | " + time_at +
+            " | " + range + " | " + verdict + " |\n";
+      const bool ion = hw.name == "ion";
+      plot.series.push_back({std::string(method) + ", " + hw.name + " (projected)", e, t,
+                             ion ? ion_colours[k] : colours[k], ion ? qrm::io::marker::triangle : qrm::io::marker::circle,
+                             true, false});
+      ++k;
+    }
+  }
+  // The earliest crossing, drawn: both fitted power laws extended down to it.
+  if (best.eps > 0) {
+    const double lo = std::min(best.eps / 2, eps_min_mc), hi = *std::max_element(mc_e.begin(), mc_e.end());
+    auto law = [](const qrm::io::line_fit& f, double e) { return std::pow(10.0, f.intercept + f.slope * std::log10(e)); };
+    plot.series.push_back({"Monte Carlo fit, extended", {lo, hi}, {law(mc_fit, lo), law(mc_fit, hi)}, "#888888",
+                           qrm::io::marker::none, true, false});
+    plot.series.push_back({best.label + " fit, extended", {lo, hi}, {law(best.fit, lo), law(best.fit, hi)}, "#f0a030",
+                           qrm::io::marker::none, true, false});
+    md += "\nThe earliest crossing: " + best.label + " at eps* = " + short_number(best.eps) + ".\n";
+  }
+  summary.add("crossovers", crossings);
+  crossover_result result;
+  result.summary_json = summary.str();
+  result.markdown = md;
+  md += "\n![time against error](crossover.svg)\n";
+  qrm::io::write_csv(out / "crossover.csv", csv);
+  qrm::io::write_file_atomically(out / "crossover.md", md);
+  qrm::io::write_svg(out / "crossover.svg", plot);
+  return result;
+}
+
+int cmd_crossover(args& a) {
+  a.allow(crossover_flags());
+  crossover_request r;
+  r.scene = scene_from_arg(a.str("scene", "paper_8x8"));
+  if (r.scene.dims() != 2) throw usage_error("--scene must be a 2D scene, got the 3D scene '" + r.scene.name() + "'");
+  const auto n = static_cast<std::int64_t>(r.scene.size()) - 1;
+  r.x = static_cast<unsigned>(a.integer("x", 3, 0, n));
+  r.y = static_cast<unsigned>(a.integer("y", 4, 0, n));
+  r.steps = static_cast<unsigned>(a.integer("steps", 3, 1, 8));
+  r.error_budget = a.number("error", 1e-3);
+  if (!(r.error_budget > 0 && r.error_budget < 1)) throw usage_error("--error must be in (0, 1), got " + a.str("error", ""));
+  r.repetitions = static_cast<std::size_t>(a.integer("repetitions", 64, 2, 100000));
+  r.seed = static_cast<std::uint64_t>(a.integer("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
+  r.threads = static_cast<unsigned>(a.integer("threads", 0, 0, 1024));
+  r.out = a.str("out", "crossover");
+  r.progress = progress_from_flags(a);
+  std::printf("%s\n", run_crossover(r).summary_json.c_str());
+  return 0;
+}
+
+}  // namespace qrm_cli
