@@ -33,6 +33,7 @@
 #include <qrm/walk/lightmap.hpp>
 
 #include "commands.hpp"
+#include "render_job.hpp"
 #include "json.hpp"
 #include "scene_arg.hpp"
 
@@ -101,10 +102,13 @@ flag_table crossover_flags() {
   const char* c = "cell";
   const char* r = "run and output";
   flag_table f{
-      {"scene", "NAME|FILE", "paper_8x8", "paper_4x4, paper_8x8 or a 2D scene file", c},
-      {"x", "X", "3", "the cell's column", c},
-      {"y", "Y", "4", "the cell's row", c},
-      {"steps", "S", "3", "walk steps (1..8)", c},
+      {"scene", "NAME|FILE", "paper_8x8", "paper_4x4, paper_8x8 (2D), cornell, spheres (3D) or a scene file", c},
+      {"voxels", "N", "8", "cornell, spheres: N^3 voxels (4..64)", c},
+      {"x", "X", "3 (3D: 16)", "2D: the cell's column; 3D: the pixel's column", c},
+      {"y", "Y", "4 (3D: 16)", "2D: the cell's row; 3D: the pixel's row", c},
+      {"width", "N", "32", "3D: the image the pixel belongs to (1..1024)", c},
+      {"height", "N", "32", "3D: the image the pixel belongs to (1..1024)", c},
+      {"steps", "S", "3 in 2D, 6 in 3D", "walk steps (1..8)", c},
       {"error", "E", "0.001", "the fault-tolerant error budget of each circuit run, in (0, 1)", c},
       {"repetitions", "R", "64", "seeded runs per budget setting (2..100000)", r},
       {"seed", "S", "1", "random seed (integer >= 0)", r},
@@ -125,9 +129,24 @@ crossover_result run_crossover(const crossover_request& req) {
   const unsigned threads = req.threads;
   const fs::path out = req.out;
   const qrm::io::progress_options po = req.progress;
-  const qrm::walk_model m(sc, qrm::king_2d());
+  const bool three_d = sc.dims() == 3;
+  const qrm::walk_model m(sc, three_d ? qrm::sphere_directions(15, 3) : qrm::king_2d());
   cell_data cell;
-  cell.start = m.light_map_start(xy);
+  std::string where = (three_d ? "pixel (" : "cell (") + std::to_string(xy[0]) + ", " + std::to_string(xy[1]) + ")";
+  if (three_d) {
+    render_settings rs;
+    rs.scene = sc.name();
+    rs.width = req.width;
+    rs.height = req.height;
+    const auto px = qrm::render::pixel_starts(m, scene_camera(rs, sc));
+    const qrm::render::pixel_start& hit = px[static_cast<std::size_t>(xy[1]) * req.width + xy[0]];
+    if (!hit.hit) throw usage_error(where + " of a " + std::to_string(req.width) + "x" + std::to_string(req.height) +
+                                    " image of " + sc.name() + " sees no voxel");
+    cell.start = qrm::detail::render_start_of(sc, {hit.voxel, hit.start.direction});
+    where += " of a " + std::to_string(req.width) + "x" + std::to_string(req.height) + " image";
+  } else {
+    cell.start = m.light_map_start(xy);
+  }
   qrm::walk_options wo;
   wo.steps = steps;
   cell.program = qrm::make_walk_program(m, cell.start, wo);
@@ -135,8 +154,8 @@ crossover_result run_crossover(const crossover_request& req) {
   cell.radiance_scale = static_cast<double>(steps) * cell.program.tables.emission_scale;
   cell.classical_mean = qrm::path_sum(m, cell.start, steps, 0);
   if (!(cell.exact > 0))
-    throw usage_error("cell (" + std::to_string(xy[0]) + ", " + std::to_string(xy[1]) + ") of " + sc.name() +
-                      " receives no light in " + std::to_string(steps) + " steps: nothing to estimate");
+    throw usage_error(where + " of " + sc.name() + " receives no light in " + std::to_string(steps) +
+                      " steps: nothing to estimate");
   qrm::io::ensure_directory(out);
 
   const auto sweep = quantum_sweep();
@@ -216,17 +235,17 @@ crossover_result run_crossover(const crossover_request& req) {
   const double eps_min_mc = *std::min_element(mc_e.begin(), mc_e.end());
 
   qrm::io::plot plot;
-  plot.title = sc.name() + " cell (" + std::to_string(xy[0]) + ", " + std::to_string(xy[1]) + "), " +
-               std::to_string(steps) + " steps: time for an RMS error";
+  plot.title = sc.name() + " " + where + ", " + std::to_string(steps) + " steps: time for an RMS error";
   plot.x_label = "RMS error (radiance)";
   plot.y_label = "seconds per estimate";
   plot.x_scale = plot.y_scale = qrm::io::axis_scale::log10;
   plot.series.push_back({"Monte Carlo, one CPU core (measured)", mc_e, mc_t, "#000000", qrm::io::marker::square, true, true});
 
   std::string md = "# Crossover: fault-tolerant amplitude estimation against Monte Carlo on a CPU\n\n";
-  md += "Made by `qrm crossover --scene " + sc.name() + " --x " + std::to_string(xy[0]) + " --y " +
-        std::to_string(xy[1]) + " --steps " + std::to_string(steps) + " --error " + json_number(eps) +
-        " --repetitions " + std::to_string(reps) + " --seed " + std::to_string(seed) + "`, channel 0.\n\n";
+  md += "Made by `qrm crossover --scene " + req.scene_arg + " --x " + std::to_string(xy[0]) + " --y " +
+        std::to_string(xy[1]) + (three_d ? " --width " + std::to_string(req.width) + " --height " + std::to_string(req.height) : "") +
+        " --steps " + std::to_string(steps) + " --error " + json_number(eps) + " --repetitions " + std::to_string(reps) +
+        " --seed " + std::to_string(seed) + "`: " + sc.name() + " " + where + ", channel 0.\n\n";
   md += "Assumptions: Clifford+T with Toffoli = 7 T and rotations ceil(0.53 log2(1/e) + 5.3) T; surface code with "
         "error budget " + json_number(eps) + " per circuit run split in thirds, P_L = 0.03 (p/0.01)^((d+1)/2), one T "
         "state per logical cycle, 15-to-1 factories (include/qrm/resources/surface_code.hpp); shots run one after "
@@ -240,6 +259,7 @@ crossover_result run_crossover(const crossover_request& req) {
 
   json_object summary;
   summary.add("scene", sc.name()).add("x", xy[0]).add("y", xy[1]).add("steps", steps).add("error_budget", eps);
+  if (three_d) summary.add("width", req.width).add("height", req.height);
   summary.add("mc_slope", mc_fit.slope);
   json_array crossings;
   struct {
@@ -324,12 +344,23 @@ crossover_result run_crossover(const crossover_request& req) {
 int cmd_crossover(args& a) {
   a.allow(crossover_flags());
   crossover_request r;
-  r.scene = scene_from_arg(a.str("scene", "paper_8x8"));
-  if (r.scene.dims() != 2) throw usage_error("--scene must be a 2D scene, got the 3D scene '" + r.scene.name() + "'");
-  const auto n = static_cast<std::int64_t>(r.scene.size()) - 1;
-  r.x = static_cast<unsigned>(a.integer("x", 3, 0, n));
-  r.y = static_cast<unsigned>(a.integer("y", 4, 0, n));
-  r.steps = static_cast<unsigned>(a.integer("steps", 3, 1, 8));
+  render_settings rs;
+  rs.scene = r.scene_arg = a.str("scene", "paper_8x8");
+  rs.voxels = static_cast<unsigned>(a.integer("voxels", 8, 4, 64));
+  r.scene = load_render_scene(rs);
+  const bool three_d = r.scene.dims() == 3;
+  if (!three_d)
+    for (const char* f : {"voxels", "width", "height"})
+      if (a.has(f)) throw usage_error(std::string("--") + f + " applies to 3D scenes; --scene " + rs.scene + " is 2D");
+  if (a.has("voxels") && rs.scene != "cornell" && rs.scene != "spheres")
+    throw usage_error("--voxels sets the size of the built-in 3D scenes (cornell, spheres), not of --scene " + rs.scene);
+  r.width = static_cast<unsigned>(a.integer("width", 32, 1, 1024));
+  r.height = static_cast<unsigned>(a.integer("height", 32, 1, 1024));
+  const auto nx = three_d ? static_cast<std::int64_t>(r.width) - 1 : static_cast<std::int64_t>(r.scene.size()) - 1;
+  const auto ny = three_d ? static_cast<std::int64_t>(r.height) - 1 : static_cast<std::int64_t>(r.scene.size()) - 1;
+  r.x = static_cast<unsigned>(a.integer("x", three_d ? r.width / 2 : 3, 0, nx));
+  r.y = static_cast<unsigned>(a.integer("y", three_d ? r.height / 2 : 4, 0, ny));
+  r.steps = static_cast<unsigned>(a.integer("steps", three_d ? 6 : 3, 1, 8));
   r.error_budget = a.number("error", 1e-3);
   if (!(r.error_budget > 0 && r.error_budget < 1)) throw usage_error("--error must be in (0, 1), got " + a.str("error", ""));
   r.repetitions = static_cast<std::size_t>(a.integer("repetitions", 64, 2, 100000));

@@ -238,6 +238,7 @@ int cmd_figures(args& a) {
   {
     crossover_request r;
     r.scene = qrm::paper_8x8();
+    r.scene_arg = "paper_8x8";
     r.repetitions = quick ? 8 : 64;
     r.seed = s.seed;
     r.threads = s.threads;

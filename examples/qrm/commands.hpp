@@ -54,7 +54,11 @@ int cmd_crossover(args&);
 // crossover.md and crossover.svg into `out`.
 struct crossover_request {
   qrm::scene scene;
+  std::string scene_arg = "paper_8x8";  // as the user named it (for the report)
+  // 2D: the light-map cell (x, y); 3D: pixel (x, y) of a width x height image through the
+  // scene's camera, walked from its first hit as qrm render --method quantum does.
   unsigned x = 3, y = 4, steps = 3;
+  unsigned width = 32, height = 32;
   double error_budget = 1e-3;
   std::size_t repetitions = 64;
   std::uint64_t seed = 1;

@@ -9,7 +9,8 @@
   sigma/sqrt(N) and its time N * t_path; 8 path counts x 24 repetitions);
 - amplitude estimation's projected time grows as about 1/eps: every slope in [-1.5, -0.7];
 - so every estimator on every preset crosses Monte Carlo at some eps* below the largest error
-  measured.
+  measured;
+- a 3D Cornell-box pixel (8^3) gives its report too.
 """
 import csv
 import json
@@ -46,6 +47,17 @@ def main():
         eps = c.get("crossover_eps")
         if not (isinstance(eps, float) and 0 < eps < largest):
             failures.append("%s: crossover eps %r" % (name, eps))
+    # 3D: a Cornell-box pixel, from its first hit (the report and a crossing for every estimator).
+    out3 = os.path.join(work, "crossover_3d")
+    r3 = subprocess.run([qrm, "crossover", "--scene", "cornell", "--repetitions", "8", "--out", out3, "--quiet"],
+                        capture_output=True, text=True)
+    if r3.returncode != 0:
+        failures.append("3D: exit %d: %s" % (r3.returncode, r3.stderr))
+    else:
+        s3 = json.loads(r3.stdout)
+        if s3["scene"] != "cornell_box_8" or len(s3["crossovers"]) != 6 or \
+                not os.path.isfile(os.path.join(out3, "crossover.svg")):
+            failures.append("3D: unexpected summary %s" % r3.stdout[:300])
     if failures:
         sys.exit("\n".join(failures))
     best = max(summary["crossovers"], key=lambda c: c["crossover_eps"])
