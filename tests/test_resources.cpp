@@ -67,6 +67,7 @@ TEST_CASE("Clifford+T: a Toffoli, C^k X on the ancilla ladder, and Ry at a given
   const qrm::clifford_t_rules four{qrm::toffoli_costing::four_t, qrm::rotation_synthesis::mixed_fallback};
   CHECK(counts_of(toffoli, four).logical_qubits == 4);  // Jones's ancilla
   CHECK(t_of(toffoli, four).t_count == 4);
+  CHECK(t_of(toffoli, four).t_depth == 1);
 
   // C^k X: AND of the first k-1 controls into k-2 ancillas (k-2 Toffolis), one Toffoli onto the
   // target, the k-2 undone: 2k-3 Toffolis, 7 (2k-3) T gates, k+1 + k-2 qubits.

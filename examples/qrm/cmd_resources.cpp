@@ -95,7 +95,7 @@ flag_table resources_flags() {
       {"physical-error", "P", "", "--preset custom: physical error rate per operation, in (0, 0.01)", h},
       {"cycle-time", "SECONDS", "", "--preset custom: one syndrome-extraction cycle", h},
       {"error", "E", "0.001", "total error budget of the longest circuit run, in (0, 1)", h},
-      {"toffoli", "7t|4t", "7t", "Toffoli as 7 T gates (T-depth 3) or 4 with an ancilla (T-depth 2)", h},
+      {"toffoli", "7t|4t", "7t", "Toffoli as 7 T gates (T-depth 3) or 4 with an ancilla (T-depth 1)", h},
       {"synthesis", "mixed|ross-selinger", "mixed",
        "T gates per rotation: ceil(0.53 log2(1/e) + 5.3) (Kliuchnikov et al. 2022) or ceil(3 log2(1/e)) (Ross-Selinger)", h},
       {"seed", "S", "1", "random seed of the estimate whose shots are costed", h},

@@ -8,8 +8,10 @@
 //     T gate per angle that is an odd multiple of pi/4, and one arbitrary rotation per other
 //     angle (angles compared to 1e-9 rad);
 //   - a Toffoli costs `toffoli_t` T gates in `toffoli_t_depth` T layers: 7 in 3 (Amy, Maslov,
-//     Mosca, Roetteler 2013, arXiv:1206.0758, the default) or 4 in 2 (Jones 2013,
-//     arXiv:1212.5069: one extra ancilla and a measurement; the ancilla is counted);
+//     Mosca, Roetteler 2013, arXiv:1206.0758, the default) or 4 in 1 (Jones 2013,
+//     arXiv:1212.5069, completing Selinger's T-depth-one construction with an extra ancilla and a
+//     measurement; the ancilla is counted). Measurement-based uncomputation (an AND undone with
+//     no T gate, Gidney 2018) is not exploited: every Toffoli of the lowering is charged;
 //   - an arbitrary rotation to error eps costs ceil(a log2(1/eps) + b) T gates in sequence:
 //       mixed_fallback (default): a = 0.53, b = 5.3 (Kliuchnikov et al. 2022, arXiv:2203.10064,
 //         the rule of the Azure Quantum Resource Estimator, Beverland et al. 2022, arXiv:2211.07629);
@@ -112,7 +114,7 @@ inline single_qubit_cost cost_of_single_qubit(const gate1& g) {
 template <int = 0>
 inline std::uint64_t t_layers(const op::gate1_op& g, const single_qubit_cost& one, std::uint64_t t_rotation,
                               toffoli_costing toffoli) {
-  if (g.controls.size() >= 2) return toffoli == toffoli_costing::seven_t ? 3 : 2;
+  if (g.controls.size() >= 2) return toffoli == toffoli_costing::seven_t ? 3 : 1;
   if (g.controls.size() == 1) return 0;
   return one.t_gates + one.rotations * t_rotation;
 }
