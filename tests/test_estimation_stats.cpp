@@ -103,6 +103,66 @@ TEST_CASE("IQAE (Clopper-Pearson and Chernoff-Hoeffding): |error| <= epsilon wit
   }
 }
 
+TEST_CASE("ChebAE: |error| <= epsilon with probability >= 1 - alpha, and exact mode covers") {
+  // epsilon = 0.005, alpha = 0.05: misses ~ Bin(300, <= 0.05) if the guarantee holds; more than
+  // 35 has probability below 1e-7 (mean 15, sd 3.8). The half-width bound is the stopping rule.
+  // (The reference code's single-shot late phase missed 6.6% at a = 0.5; see chebae.hpp.)
+  for (const auto& p : problems()) {
+    for (double a : {p.a, 0.0, 1.0, 0.5}) {
+      qrm::chebae_options opt;
+      opt.epsilon = 0.005;
+      opt.alpha = 0.05;
+      const auto t = many(a, 300, 23, opt.epsilon,
+                          [&](auto& o, auto& g) { return qrm::chebyshev_amplitude_estimation(o, opt, g); });
+      INFO(p.name << " a = " << a << " covered " << t.covered << " beyond epsilon " << t.beyond_epsilon);
+      CHECK(t.runs - t.covered <= 35);
+      CHECK(t.beyond_epsilon <= 35);
+      CHECK(t.max_half_width <= opt.epsilon + 1e-12);
+      // Exact probabilities: no sampling error, so the interval must cover.
+      opt.exact_probabilities = true;
+      qrm::analytic_oracle o(a);
+      qrm::rng g(1);
+      const auto r = qrm::chebyshev_amplitude_estimation(o, opt, g);
+      CHECK(r.confidence_interval[0] <= a);
+      CHECK(a <= r.confidence_interval[1]);
+    }
+  }
+  // a = 0.5 over 4000 runs, where testing every single shot at one level (the reference code)
+  // missed 265 times: if the guarantee holds, misses ~ Bin(4000, <= 0.05), mean <= 200, sd 13.8;
+  // more than 255 has probability below 1e-4.
+  qrm::chebae_options opt;
+  opt.epsilon = 0.005;
+  const auto t = many(0.5, 4000, 99, opt.epsilon, [&](auto& o, auto& g) { return qrm::chebyshev_amplitude_estimation(o, opt, g); });
+  INFO("a = 0.5: " << t.runs - t.covered << " misses in 4000");
+  CHECK(t.runs - t.covered <= 255);
+}
+
+TEST_CASE("ChebAE reaches a given RMS error with fewer oracle calls than IQAE (N x error constant)") {
+  // Rall and Fuller's claim, on a = 0.3 and 0.05 at epsilon = 1e-4: mean A-calls N times the RMS
+  // error over 200 seeds (measured when written: ChebAE 21 and 15, IQAE 48 and 43). The RMS error
+  // of 200 runs is known to about 10%, far inside the factor 2 between the two.
+  for (double a : {0.3, 0.05}) {
+    qrm::analytic_oracle o(a);
+    double cheb_calls = 0, iqae_calls = 0, cheb_sq = 0, iqae_sq = 0;
+    for (std::uint64_t i = 0; i < 200; ++i) {
+      qrm::chebae_options c;
+      c.epsilon = 1e-4;
+      qrm::iqae_options q;
+      q.epsilon = 1e-4;
+      qrm::rng g1 = qrm::rng::stream(5, i), g2 = qrm::rng::stream(6, i);
+      const auto rc = qrm::chebyshev_amplitude_estimation(o, c, g1);
+      const auto ri = qrm::iterative_amplitude_estimation(o, q, g2);
+      cheb_calls += static_cast<double>(rc.a_calls);
+      iqae_calls += static_cast<double>(ri.a_calls);
+      cheb_sq += (rc.estimate - a) * (rc.estimate - a);
+      iqae_sq += (ri.estimate - a) * (ri.estimate - a);
+    }
+    const double cheb = cheb_calls / 200 * std::sqrt(cheb_sq / 200), iqae = iqae_calls / 200 * std::sqrt(iqae_sq / 200);
+    INFO("a = " << a << ": N x RMS error, chebae " << cheb << ", iqae " << iqae);
+    CHECK(cheb < iqae);
+  }
+}
+
 TEST_CASE(
     "MLAE (exponential and linear schedules): Fisher interval coverage ~ 1 - alpha, error at the Cramer-Rao bound") {
   for (const auto& p : problems()) {

@@ -21,14 +21,15 @@ namespace qrm_cli {
 inline flag_table estimator_flag_table(const char* qcoin_steps) {
   const char* g = "amplitude estimation (a flag of another estimator is an error)";
   return {
-      {"estimator", "fae|iqae|mlae|canonical|qcoin|mc", "fae", "the amplitude estimator", g},
+      {"estimator", "fae|iqae|mlae|canonical|qcoin|mc|chebae", "fae", "the amplitude estimator", g},
       {"delta", "D", "0.01", "fae: failure probability of each Chernoff interval, in (0, 1)", g},
       {"maxiter", "L", "5", "fae: rounds (1..40); the largest Grover power is 2^(L-1)", g},
       {"rescale", "", "on", "fae: rescale the amplitude (the paper's setting)", g},
       {"no-rescale", "", "", "fae: do not rescale", g},
-      {"epsilon", "E", "0.01", "iqae: target half-width of the interval, in (0, 0.5]", g},
-      {"alpha", "A", "0.05", "iqae, mlae, canonical, qcoin, mc: the interval fails with probability <= A", g},
-      {"shots", "N", "100 (mc: 1000)", "shots per round (iqae), per power (mlae), per step (qcoin), in all (canonical, mc)", g},
+      {"epsilon", "E", "0.01", "iqae, chebae: target half-width of the interval, in (0, 0.5]", g},
+      {"alpha", "A", "0.05", "iqae, mlae, canonical, qcoin, mc, chebae: the interval fails with probability <= A", g},
+      {"shots", "N", "100 (mc: 1000)",
+       "shots per round (iqae), per power (mlae), per step (qcoin), per early batch (chebae), in all (canonical, mc)", g},
       {"interval", "cp|ch", "cp", "iqae: Clopper-Pearson or Chernoff-Hoeffding intervals", g},
       {"schedule", "exponential|linear", "exponential", "mlae: Grover powers 0, 2^0..2^(M-1) or 0, 1..M", g},
       {"m", "M", "5", "mlae: the number of powers (exponential: M <= 30; linear: M <= 256)", g},
@@ -53,15 +54,17 @@ struct parsed_estimator {
 inline parsed_estimator parse_estimator_args(args& a, const std::string& prefix, const std::string& fallback = "fae",
                                              const std::string& coin_steps_flag = "steps") {
   const std::string name = a.str("estimator", fallback);
-  static const std::set<std::string> names{"fae", "iqae", "mlae", "canonical", "qcoin", "mc"};
+  static const std::set<std::string> names{"fae", "iqae", "mlae", "canonical", "qcoin", "mc", "chebae"};
   if (!names.count(name))
-    throw usage_error(prefix + "--estimator must be one of fae, iqae, mlae, canonical, qcoin, mc; got '" + name + "'");
+    throw usage_error(prefix + "--estimator must be one of fae, iqae, mlae, canonical, qcoin, mc, chebae; got '" + name +
+                      "'");
   const std::set<std::string> own = [&]() -> std::set<std::string> {
     if (name == "fae") return {"delta", "maxiter", "rescale", "no-rescale"};
     if (name == "iqae") return {"epsilon", "alpha", "shots", "interval"};
     if (name == "mlae") return {"alpha", "shots", "schedule", "m"};
     if (name == "canonical") return {"alpha", "shots", "evaluation-qubits"};
     if (name == "qcoin") return {"alpha", "shots", coin_steps_flag};
+    if (name == "chebae") return {"epsilon", "alpha", "shots"};
     return {"alpha", "shots"};
   }();
   for (const std::string f : {"delta", "maxiter", "rescale", "no-rescale", "epsilon", "alpha", "shots", "interval",
@@ -133,6 +136,12 @@ inline parsed_estimator parse_estimator_args(args& a, const std::string& prefix,
         static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots_per_step), 1, max_shots));
     o.steps = static_cast<unsigned>(integer_in(coin_steps_flag, o.steps, 1, 16));
     options.add("alpha", o.alpha).add("shots_per_step", o.shots_per_step).add("steps", o.steps);
+  } else if (name == "chebae") {
+    auto& o = s.chebae;
+    o.epsilon = number_in("epsilon", o.epsilon, 0.0, 0.5, true, false);
+    o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);
+    o.shots = static_cast<std::uint64_t>(integer_in("shots", static_cast<std::int64_t>(o.shots), 1, 100000));
+    options.add("epsilon", o.epsilon).add("alpha", o.alpha).add("shots_per_batch", o.shots);
   } else {
     auto& o = s.mc;
     o.alpha = number_in("alpha", o.alpha, 0.0, 1.0, true, true);

@@ -185,6 +185,11 @@ inline std::vector<std::pair<std::string, estimator_settings>> budget_sweep(esti
         s.mc.shots = std::uint64_t{100} << (2 * i);
         label = "shots=" + std::to_string(s.mc.shots);
         break;
+      case estimator_kind::chebae:
+        s.chebae.epsilon = 0.05 * std::pow(0.5, i);
+        s.chebae.alpha = 0.01;  // as IQAE: a failed interval would dominate the RMS error
+        label = "epsilon=" + std::to_string(s.chebae.epsilon);
+        break;
     }
     out.push_back({label, s});
   }

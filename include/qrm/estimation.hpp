@@ -5,6 +5,7 @@
 //   estimation/result.hpp       estimation_result (estimate, interval, calls, rounds), to_radiance
 //   estimation/fae.hpp          Faster Amplitude Estimation (Nakaji)
 //   estimation/iqae.hpp         Iterative Amplitude Estimation (Grinko et al.), Clopper-Pearson / Chernoff
+//   estimation/chebae.hpp       Chebyshev amplitude estimation, ChebAE (Rall and Fuller 2023)
 //   estimation/mlae.hpp         Maximum-Likelihood Amplitude Estimation (Suzuki et al.), Fisher interval
 //   estimation/canonical.hpp    canonical QPE-based amplitude estimation (Brassard et al.) + MLE
 //   estimation/qcoin.hpp        quantum coin method (Shimada and Hachisuka 2020)
@@ -18,6 +19,7 @@
 #include "estimation/result.hpp"
 #include "estimation/fae.hpp"
 #include "estimation/iqae.hpp"
+#include "estimation/chebae.hpp"
 #include "estimation/mlae.hpp"
 #include "estimation/canonical.hpp"
 #include "estimation/qcoin.hpp"

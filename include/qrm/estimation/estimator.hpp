@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "canonical.hpp"
+#include "chebae.hpp"
 #include "fae.hpp"
 #include "iqae.hpp"
 #include "mlae.hpp"
@@ -16,11 +17,12 @@
 
 namespace qrm {
 
-enum class estimator_kind : unsigned char { fae, iqae, mlae, canonical, qcoin, mc };
+enum class estimator_kind : unsigned char { fae, iqae, mlae, canonical, qcoin, mc, chebae };
 
 inline constexpr estimator_kind all_estimators[] = {estimator_kind::fae,       estimator_kind::iqae,
                                                     estimator_kind::mlae,      estimator_kind::canonical,
-                                                    estimator_kind::qcoin,     estimator_kind::mc};
+                                                    estimator_kind::qcoin,     estimator_kind::mc,
+                                                    estimator_kind::chebae};
 
 constexpr std::string_view estimator_name(estimator_kind k) {
   switch (k) {
@@ -30,6 +32,7 @@ constexpr std::string_view estimator_name(estimator_kind k) {
     case estimator_kind::canonical: return "canonical";
     case estimator_kind::qcoin: return "qcoin";
     case estimator_kind::mc: return "mc";
+    case estimator_kind::chebae: return "chebae";
   }
   return "?";
 }
@@ -39,7 +42,7 @@ inline estimator_kind estimator_from_name(std::string_view name) {
   for (estimator_kind k : all_estimators)
     if (estimator_name(k) == name) return k;
   throw std::invalid_argument("unknown estimator '" + std::string(name) +
-                              "' (fae, iqae, mlae, canonical, qcoin or mc)");
+                              "' (fae, iqae, mlae, canonical, qcoin, mc or chebae)");
 }
 
 // estimator_settings: which estimator, each one's options, and exact-probability mode for all.
@@ -51,6 +54,7 @@ struct estimator_settings {
   canonical_options canonical;
   qcoin_options qcoin;
   monte_carlo_options mc;
+  chebae_options chebae;
   bool exact_probabilities = false;
 };
 
@@ -68,6 +72,7 @@ estimation_result estimate_amplitude(O& oracle, const estimator_settings& s, rng
     case estimator_kind::canonical: return canonical_amplitude_estimation(oracle, with_exact(s.canonical), g);
     case estimator_kind::qcoin: return quantum_coin_estimation(oracle, with_exact(s.qcoin), g);
     case estimator_kind::mc: return monte_carlo_estimation(oracle, with_exact(s.mc), g);
+    case estimator_kind::chebae: return chebyshev_amplitude_estimation(oracle, with_exact(s.chebae), g);
   }
   throw std::logic_error("estimate_amplitude: unknown estimator kind");
 }
