@@ -59,14 +59,7 @@ flag_table circuit_flags() {
 int cmd_circuit(args& a) {
   a.allow(circuit_flags());
   const qrm::scene sc = scene_from_arg(a.required("scene"));
-  if (sc.dims() != 2) throw usage_error("--scene must be a 2D scene (3D circuits: qrm render --estimator quantum)");
-  const auto n = static_cast<std::int64_t>(sc.size()) - 1;
-  const std::array<unsigned, 3> cell{static_cast<unsigned>(a.integer("x", 0, 0, n)),
-                                     static_cast<unsigned>(a.integer("y", 0, 0, n)), 0};
-  qrm::walk_options o;
-  o.steps = static_cast<unsigned>(a.integer("steps", 3, 1, 16));
-  o.channel = static_cast<int>(a.integer("channel", 0, 0, 2));
-  o.prune = pruning_from_arg(a.str("prune", "reachable"));
+  auto [cell, o] = walk_cell_from_flags(a, sc, 0, 0);
   const std::string variant = a.str("variant", "faithful");
   if (variant == "history") o.variant = qrm::walk_variant::history;
   else if (variant != "faithful") throw usage_error("--variant must be faithful or history, got '" + variant + "'");

@@ -108,14 +108,7 @@ flag_table resources_flags() {
 int cmd_resources(args& a) {
   a.allow(resources_flags());
   const qrm::scene sc = scene_from_arg(a.str("scene", "paper_8x8"));
-  if (sc.dims() != 2) throw usage_error("--scene must be a 2D scene, got the 3D scene '" + sc.name() + "'");
-  const auto n = static_cast<std::int64_t>(sc.size()) - 1;
-  const std::array<unsigned, 3> cell{static_cast<unsigned>(a.integer("x", 3, 0, n)),
-                                     static_cast<unsigned>(a.integer("y", 4, 0, n)), 0};
-  qrm::walk_options o;
-  o.steps = static_cast<unsigned>(a.integer("steps", 3, 1, 16));
-  o.channel = static_cast<int>(a.integer("channel", 0, 0, 2));
-  o.prune = pruning_from_arg(a.str("prune", "reachable"));
+  const auto [cell, o] = walk_cell_from_flags(a, sc, 3, 4);
   const qrm::hardware hw = hardware_from_flags(a);
   const double eps = a.number("error", 1e-3);
   if (!(eps > 0 && eps < 1)) throw usage_error("--error must be in (0, 1), got " + a.str("error", ""));

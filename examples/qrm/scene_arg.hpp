@@ -1,11 +1,14 @@
 // examples/qrm/scene_arg.hpp: `--scene NAME|FILE` for the qrm tool.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
 #include <qrm/walk/paper_scenes.hpp>
 #include <qrm/walk/scene_format.hpp>
+#include <qrm/walk/circuit.hpp>
 
 #include "args.hpp"
 
@@ -25,6 +28,23 @@ inline qrm::pruning pruning_from_arg(const std::string& v) {
   if (v == "scene") return qrm::pruning::scene;
   if (v == "reachable") return qrm::pruning::reachable;
   throw usage_error("--prune must be none, scene or reachable, got '" + v + "'");
+}
+
+// One light-map cell's walk circuit as the flags name it: --x, --y (in the grid), --steps
+// (1..16, default 3), --channel (0..2), --prune (default reachable). `sc` must be 2D.
+struct walk_cell {
+  std::array<unsigned, 3> cell{};
+  qrm::walk_options options;
+};
+inline walk_cell walk_cell_from_flags(const args& a, const qrm::scene& sc, unsigned default_x, unsigned default_y) {
+  if (sc.dims() != 2) throw usage_error("--scene must be a 2D scene, got the 3D scene '" + sc.name() + "'");
+  const auto n = static_cast<std::int64_t>(sc.size()) - 1;
+  walk_cell w;
+  w.cell = {static_cast<unsigned>(a.integer("x", default_x, 0, n)), static_cast<unsigned>(a.integer("y", default_y, 0, n)), 0};
+  w.options.steps = static_cast<unsigned>(a.integer("steps", 3, 1, 16));
+  w.options.channel = static_cast<int>(a.integer("channel", 0, 0, 2));
+  w.options.prune = pruning_from_arg(a.str("prune", "reachable"));
+  return w;
 }
 
 }  // namespace qrm_cli
