@@ -100,6 +100,7 @@ flag_table resources_flags() {
        "T gates per rotation: ceil(0.53 log2(1/e) + 5.3) (Kliuchnikov et al. 2022) or ceil(3 log2(1/e)) (Ross-Selinger)", h},
       {"seed", "S", "1", "random seed of the estimate whose shots are costed", h},
       {"format", "json|text", "json", "output format", h},
+      {"image", "", "", "also cost every cell and channel of the light map (the whole image)", c},
   };
   for (const flag& e : estimator_flag_table("ae-steps")) f.push_back(e);
   return f;
@@ -130,20 +131,44 @@ int cmd_resources(args& a) {
   const bool rescaled = est.settings.kind == qrm::estimator_kind::fae && est.settings.fae.rescale;
   // The estimate whose shots are costed: the estimator run on this cell's exact P(out = 1), as
   // qrm render's light map runs it (same shot counts; the analytic oracle draws the same law).
-  auto cost_at = [&](qrm::pruning prune) {
+  auto cost_of = [&](const qrm::walk_start& from, int channel, qrm::pruning prune, qrm::rng g) {
     qrm::walk_options wo = o;
     wo.prune = prune;
-    const auto w = qrm::make_walk_program(m, start, wo);
+    wo.channel = channel;
+    const auto w = qrm::make_walk_program(m, from, wo);
     const qrm::estimation_problem problem{w.circuit, {qrm::control{w.out, true}}};
     qrm::analytic_oracle oracle(qrm::walk_probability<qrm::compact_backend>(w));
-    qrm::rng g(seed);
     const qrm::estimation_result r = qrm::estimate_amplitude(oracle, est.settings, g);
     // FAE with rescaling runs A with an extra ancilla rotated by Ry(2 asin 1/4) (fae.hpp).
     const qrm::estimation_problem costed = rescaled ? qrm::rescaled_problem(problem, 0.25) : problem;
     return std::make_pair(r, qrm::cost_of_estimate(costed, r, rules, hw, eps));
   };
-  const auto [result, chosen] = cost_at(o.prune);
-  const auto unpruned = cost_at(qrm::pruning::none).second;
+  const auto [result, chosen] = cost_of(start, o.channel, o.prune, qrm::rng(seed));
+  const auto unpruned = cost_of(start, o.channel, qrm::pruning::none, qrm::rng(seed)).second;
+
+  // --image: every cell and distinct channel of the light map, one estimate each (random stream
+  // (seed, cell * 3 + channel), as qrm render), run one after another on one machine.
+  json_object image;
+  double image_total = 0;
+  if (a.flag("image")) {
+    const auto sources = sc.channel_sources();
+    double seconds = 0, longest = 0;
+    unsigned distance = 0;
+    std::uint64_t qubits = 0, estimates = 0;
+    for (std::size_t c = 0; c < sc.voxel_count(); ++c)
+      for (int ch = 0; ch < 3; ++ch) {
+        if (sources[static_cast<std::size_t>(ch)] != ch) continue;  // a copy of another channel
+        const auto e = cost_of(m.light_map_start(sc.coords(c)), ch, o.prune, qrm::rng::stream(seed, c * 3 + static_cast<std::size_t>(ch))).second;
+        seconds += e.seconds;
+        longest = std::max(longest, e.seconds);
+        distance = std::max(distance, e.plan.code_distance);
+        qubits = std::max(qubits, e.plan.physical_qubits);
+        ++estimates;
+      }
+    image_total = seconds;
+    image.add("cells", sc.voxel_count()).add("estimates", estimates).add("seconds", seconds);
+    image.add("seconds_longest_estimate", longest).add("code_distance_max", distance).add("physical_qubits_max", qubits);
+  }
 
   if (format == "text") {
     std::printf("%s cell (%u, %u), %u steps, channel %d; %s (p = %s, %s s per syndrome cycle), error budget %s\n",
@@ -153,12 +178,16 @@ int cmd_resources(args& a) {
                 result.estimator.c_str(), result.shots, result.grover_calls, chosen.max_power);
     print_text(std::string("pruning ") + qrm::pruning_name(o.prune), chosen, channels);
     print_text("unpruned", unpruned, channels);
+    if (a.flag("image"))
+      std::printf("image (--image): every cell and distinct channel, one after another: %.4g s (%.3g days)\n",
+                  image_total, image_total / 86400);
     return 0;
   }
   json_object j;
   j.add("scene", sc.name()).add("x", cell[0]).add("y", cell[1]).add("steps", o.steps).add("channel", o.channel);
   j.add("prune", qrm::pruning_name(o.prune)).add_members(cost_json(chosen, channels));
   j.add("unpruned", cost_json(unpruned, channels));
+  if (a.flag("image")) j.add("image", image);
   json_object estimate = est.json();
   estimate.add("shots", result.shots).add("grover_calls", result.grover_calls).add("max_power", chosen.max_power);
   j.add("estimate", estimate);

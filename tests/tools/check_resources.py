@@ -8,7 +8,8 @@ must satisfy, for the paper's 8x8 cell.
 - physical_qubits >= logical_qubits * code_distance^2 and t_count >= 4 * toffoli_count;
 - the unpruned circuit costs more T gates and time than the pruned one;
 - a tighter error budget never lowers the distance, the T-count or the physical qubits;
-- the ion preset (p = 1e-4, 100 us) needs a smaller distance but more time than superconducting.
+- the ion preset (p = 1e-4, 100 us) needs a smaller distance but more time than superconducting;
+- --image costs one estimate per cell and channel (192 for paper_8x8), summed.
 """
 import json
 import math
@@ -50,6 +51,10 @@ def main():
         if last is not None and any(n < l for n, l in zip(now, last)):
             failures.append("--error %s: (distance, T-count, qubits) %s fell from %s" % (eps, now, last))
         last = now
+    img = run(qrm, "--image")["image"]
+    # paper_8x8's three channels differ (red and green walls), so every cell costs 3 estimates.
+    if img["estimates"] != 3 * 64 or not img["seconds"] >= img["seconds_longest_estimate"] > 0:
+        failures.append("--image: %r" % img)
     ion = run(qrm, "--preset", "ion")
     if not (ion["code_distance"] < base["code_distance"] and ion["seconds_per_estimate"] > base["seconds_per_estimate"]):
         failures.append("ion: distance %d (superconducting %d), %g s (superconducting %g s)"
