@@ -109,7 +109,9 @@ flag_table resources_flags() {
 int cmd_resources(args& a) {
   a.allow(resources_flags());
   const qrm::scene sc = scene_from_arg(a.str("scene", "paper_8x8"));
-  const auto [cell, o] = walk_cell_from_flags(a, sc, 3, 4);
+  const walk_cell wc = walk_cell_from_flags(a, sc, 3, 4);
+  const std::array<unsigned, 3> cell = wc.cell;
+  const qrm::walk_options o = wc.options;  // named variables: clang 14 cannot capture structured bindings
   const qrm::hardware hw = hardware_from_flags(a);
   const double eps = a.number("error", 1e-3);
   if (!(eps > 0 && eps < 1)) throw usage_error("--error must be in (0, 1), got " + a.str("error", ""));
