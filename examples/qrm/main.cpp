@@ -29,7 +29,7 @@ const command commands[] = {
      "qrm lightmap --scene paper_8x8 --exact --backend dense --format csv", lightmap_flags, cmd_lightmap},
     {"circuit", "width, depth and gate counts of one start cell's A operator at every pruning level; QASM export",
      "qrm circuit --scene paper_8x8 --x 3 --y 4 --qasm a.qasm", circuit_flags, cmd_circuit},
-    {"estimate", "estimate a Bernoulli amplitude with fae, iqae, mlae, canonical, qcoin or mc",
+    {"estimate", "estimate a Bernoulli amplitude with fae, iqae, mlae, canonical, qcoin, mc or chebae",
      "qrm estimate --probability 0.2 --estimator iqae --epsilon 0.001 --format text", estimate_flags, cmd_estimate},
     {"merge", "put the tiles of a render (qrm render --tile I/N) back together", "qrm merge --parts out",
      merge_flags, cmd_merge},

@@ -20,6 +20,8 @@ inline qrm::scene scene_from_arg(const std::string& value, const std::string& bu
   if (value == "paper_8x8" || value == "paper_4x4") return qrm::builtin_2d_scene(value);
   if (!std::filesystem::exists(value))
     throw usage_error("--scene: '" + value + "' is neither a built-in scene (" + builtins + ") nor an existing file");
+  if (std::filesystem::is_directory(value))
+    throw usage_error("--scene: '" + value + "' is a directory, not a scene file");
   return qrm::load_scene(value);
 }
 
