@@ -26,6 +26,15 @@ qrm::clifford_t_counts counts_of(const program& p, qrm::clifford_t_rules rules =
   return qrm::clifford_t_counts_of(qrm::clifford_t_lowering(p), rules);
 }
 
+// A paper_4x4 walk circuit of 2 steps (small, with Toffolis and rotations).
+qrm::walk_program small_walk() {
+  const qrm::scene sc = qrm::paper_4x4();
+  const qrm::walk_model m(sc, qrm::king_2d());
+  qrm::walk_options o;
+  o.steps = 2;
+  return qrm::make_walk_program(m, m.light_map_start({1, 1, 0}), o);
+}
+
 qrm::t_cost t_of(const program& p, qrm::clifford_t_rules rules = {}, double eps = 1e-10) {
   const program lowered = qrm::clifford_t_lowering(p);
   return qrm::t_cost_of(lowered, qrm::clifford_t_counts_of(lowered, rules), rules, eps);
@@ -93,11 +102,7 @@ TEST_CASE("Clifford+T: a Toffoli, C^k X on the ancilla ladder, and Ry at a given
 }
 
 TEST_CASE("Clifford+T: a lowered walk circuit read back from QASM costs the same") {
-  const qrm::scene sc = qrm::paper_4x4();
-  const qrm::walk_model m(sc, qrm::king_2d());
-  qrm::walk_options o;
-  o.steps = 2;
-  const auto w = qrm::make_walk_program(m, m.light_map_start({1, 1, 0}), o);
+  const auto w = small_walk();
   const program lowered = qrm::clifford_t_lowering(w.circuit);
   const program back = qrm::from_qasm(qrm::to_qasm(lowered));
   const auto a = qrm::clifford_t_counts_of(lowered), b = qrm::clifford_t_counts_of(back);
@@ -141,11 +146,7 @@ TEST_CASE("surface code: P_L, the distance is the smallest that meets the budget
 }
 
 TEST_CASE("resources never fall when the error budget tightens") {
-  const qrm::scene sc = qrm::paper_4x4();
-  const qrm::walk_model m(sc, qrm::king_2d());
-  qrm::walk_options o;
-  o.steps = 2;
-  const auto w = qrm::make_walk_program(m, m.light_map_start({1, 1, 0}), o);
+  const auto w = small_walk();
   const qrm::estimation_problem problem{w.circuit, {control{w.out, true}}};
   qrm::estimation_result r;
   r.shots = 500;

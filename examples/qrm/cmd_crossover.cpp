@@ -49,6 +49,7 @@ struct measured {
   double rmse = 0;          // radiance units
   double shots = 0, grover_calls = 0;  // quantum: means per estimate
   std::uint64_t max_power = 0;         // quantum: largest over the repetitions
+  bool rescaled = false;               // quantum: runs A with FAE's rescaling ancilla
   double paths = 0;                    // classical
   double cpu_seconds = 0;              // classical: mean time of one estimate on one core
 };
@@ -89,11 +90,6 @@ std::string short_number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3g", v);
   return buf;
-}
-
-// A power law through the points, in log-log: seconds = 10^intercept * rmse^slope.
-qrm::io::line_fit fit(const std::vector<double>& rmse, const std::vector<double>& seconds) {
-  return qrm::io::fit_log_log(rmse, seconds);
 }
 
 }  // namespace
@@ -179,6 +175,7 @@ crossover_result run_crossover(const crossover_request& req) {
       bar.advance();
     });
     measured p{std::string(qrm::estimator_name(s.kind)), label};
+    p.rescaled = qrm::runs_rescaled(s);
     for (std::size_t j = 0; j < reps; ++j) {  // fixed order: deterministic
       p.rmse += sq[j];
       p.shots += shots[j];
@@ -218,9 +215,10 @@ crossover_result run_crossover(const crossover_request& req) {
   // Hardware time of every quantum point, per preset.
   const qrm::clifford_t_rules rules;
   const qrm::estimation_problem problem{cell.program.circuit, {qrm::control{cell.program.out, true}}};
-  // FAE with rescaling runs A with an extra ancilla (fae.hpp); the others run A as it is.
+  // Lowered once each: A as it is, and with FAE's rescaling ancilla (qrm::problem_as_run).
   const qrm::estimate_circuits plain = qrm::lower_estimate_circuits(problem, rules);
-  const qrm::estimate_circuits rescaled = qrm::lower_estimate_circuits(qrm::rescaled_problem(problem, 0.25), rules);
+  qrm::estimator_settings fae;  // the default: FAE with rescaling
+  const qrm::estimate_circuits rescaled = qrm::lower_estimate_circuits(qrm::problem_as_run(problem, fae), rules);
   const std::vector<qrm::hardware> presets{qrm::hardware_preset("superconducting"), qrm::hardware_preset("ion")};
 
   qrm::io::table csv({"method", "setting", "platform", "rmse", "seconds", "shots", "grover_calls", "max_power", "paths",
@@ -231,7 +229,7 @@ crossover_result run_crossover(const crossover_request& req) {
     mc_e.push_back(p.rmse);
     mc_t.push_back(p.cpu_seconds);
   }
-  const qrm::io::line_fit mc_fit = fit(mc_e, mc_t);
+  const qrm::io::line_fit mc_fit = qrm::io::fit_log_log(mc_e, mc_t);
   const double eps_min_mc = *std::min_element(mc_e.begin(), mc_e.end());
 
   qrm::io::plot plot;
@@ -275,8 +273,7 @@ crossover_result run_crossover(const crossover_request& req) {
       std::vector<double> e, t;
       for (const measured& p : quantum) {
         if (p.method != method) continue;
-        const bool is_fae = p.method == "fae";
-        const auto cost = qrm::cost_of_estimate(is_fae ? rescaled : plain, p.shots, p.grover_calls, p.max_power, rules,
+        const auto cost = qrm::cost_of_estimate(p.rescaled ? rescaled : plain, p.shots, p.grover_calls, p.max_power, rules,
                                                 hw, eps);
         csv.add_row({p.method, p.setting, hw.name, p.rmse, cost.seconds, p.shots, p.grover_calls, p.max_power, 0,
                      cost.plan.code_distance, cost.plan.physical_qubits});
@@ -285,7 +282,7 @@ crossover_result run_crossover(const crossover_request& req) {
           t.push_back(cost.seconds);
         }
       }
-      const qrm::io::line_fit q = fit(e, t);
+      const qrm::io::line_fit q = qrm::io::fit_log_log(e, t);
       const double lo = *std::min_element(e.begin(), e.end()), hi = *std::max_element(e.begin(), e.end());
       std::string verdict, at, time_at;
       json_object c;

@@ -130,7 +130,6 @@ int cmd_resources(args& a) {
   const qrm::walk_model m(sc, qrm::king_2d());
   const qrm::walk_start start = m.light_map_start(cell);
   const std::size_t channels = 3;
-  const bool rescaled = est.settings.kind == qrm::estimator_kind::fae && est.settings.fae.rescale;
   // The estimate whose shots are costed: the estimator run on this cell's exact P(out = 1), as
   // qrm render's light map runs it (same shot counts; the analytic oracle draws the same law).
   auto cost_of = [&](const qrm::walk_start& from, int channel, qrm::pruning prune, qrm::rng g) {
@@ -141,9 +140,7 @@ int cmd_resources(args& a) {
     const qrm::estimation_problem problem{w.circuit, {qrm::control{w.out, true}}};
     qrm::analytic_oracle oracle(qrm::walk_probability<qrm::compact_backend>(w));
     const qrm::estimation_result r = qrm::estimate_amplitude(oracle, est.settings, g);
-    // FAE with rescaling runs A with an extra ancilla rotated by Ry(2 asin 1/4) (fae.hpp).
-    const qrm::estimation_problem costed = rescaled ? qrm::rescaled_problem(problem, 0.25) : problem;
-    return std::make_pair(r, qrm::cost_of_estimate(costed, r, rules, hw, eps));
+    return std::make_pair(r, qrm::cost_of_estimate(qrm::problem_as_run(problem, est.settings), r, rules, hw, eps));
   };
   const auto [result, chosen] = cost_of(start, o.channel, o.prune, qrm::rng(seed));
   const auto unpruned = cost_of(start, o.channel, qrm::pruning::none, qrm::rng(seed)).second;
@@ -198,7 +195,7 @@ int cmd_resources(args& a) {
   assumptions.add("error_budget", eps).add("error_logical", chosen.plan.eps_logical);
   assumptions.add("error_distillation", chosen.plan.eps_distillation).add("error_synthesis", chosen.plan.eps_synthesis);
   assumptions.add("rotation_error", chosen.rotation_eps).add("toffoli", toffoli).add("synthesis", synthesis);
-  assumptions.add("a_costed", rescaled ? "A with FAE's rescaling ancilla" : "A");
+  assumptions.add("a_costed", qrm::runs_rescaled(est.settings) ? "A with FAE's rescaling ancilla" : "A");
   assumptions.add("model", "include/qrm/resources/surface_code.hpp: one T state per logical cycle, P_L = 0.03 (p/0.01)^((d+1)/2), "
                            "15-to-1 factories of 11 patches; seconds_per_cell = channels x the estimate of channel's circuit");
   j.add("assumptions", assumptions);

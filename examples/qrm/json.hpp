@@ -4,7 +4,6 @@
 // which JSON cannot hold, are null. The output is compact (no spaces), one value per call.
 #pragma once
 
-#include <charconv>
 #include <cmath>
 #include <concepts>
 #include <cstddef>
@@ -12,15 +11,13 @@
 #include <string>
 #include <string_view>
 
+#include <qrm/io/csv.hpp>
+
 namespace qrm_cli {
 
-// json_number(x): the shortest text that reads back as exactly x; "null" if x is not finite.
-inline std::string json_number(double x) {
-  if (!std::isfinite(x)) return "null";
-  char buf[40];
-  const auto r = std::to_chars(buf, buf + sizeof buf, x);
-  return std::string(buf, r.ptr);
-}
+// json_number(x): the shortest text that reads back as exactly x (csv_number); "null" if x is
+// not finite (JSON has no inf or nan).
+inline std::string json_number(double x) { return std::isfinite(x) ? qrm::io::csv_number(x) : "null"; }
 
 // json_string(s): s as a JSON string literal, quotes included.
 inline std::string json_string(std::string_view s) {

@@ -50,12 +50,6 @@ struct chebae_options {
 
 namespace detail {
 
-// T_d(x)^2 = cos^2(d acos x).
-inline double chebyshev_squared(std::uint64_t d, double x) {
-  const double c = std::cos(static_cast<double>(d) * std::acos(std::clamp(x, -1.0, 1.0)));
-  return c * c;
-}
-
 // The largest odd d >= min_degree with T_d^2 monotone on [x_lo, x_hi], if any.
 inline std::optional<std::uint64_t> chebae_next_degree(double x_lo, double x_hi, double min_degree) {
   using std::numbers::pi;

@@ -39,6 +39,10 @@
 
 namespace qrm {
 
+// With rescale, A's amplitude is multiplied by this (a -> a / 16) through an ancilla rotated by
+// Ry(2 asin(1/4)) (rescaled_problem).
+inline constexpr double fae_rescale_scale = 0.25;
+
 struct fae_options {
   double delta = 0.01;   // failure probability of each Chernoff interval
   unsigned maxiter = 5;  // rounds l; the largest Grover power is 2^(l-1)
@@ -57,7 +61,7 @@ void fae_rounds(O& oracle, const fae_options& opt, shot_sampler& s, double& thet
     return 1.0 - 2.0 * s.draw(oracle, k, shots) / static_cast<double>(shots);
   };
   theta_lo = 0.0;
-  theta_hi = std::asin(0.25);
+  theta_hi = std::asin(fae_rescale_scale);
   bool first_stage = true;
   j0 = opt.maxiter;
   double v = 0;
@@ -137,16 +141,16 @@ estimation_result faster_amplitude_estimation(O& oracle, const fae_options& opt,
   double theta_lo = 0, theta_hi = 0;
   unsigned j0 = opt.maxiter;
   if (opt.rescale) {
-    O scaled = oracle.rescaled(0.25);
+    O scaled = oracle.rescaled(fae_rescale_scale);
     detail::fae_rounds(scaled, opt, s, theta_lo, theta_hi, j0);
   } else {
     detail::fae_rounds(oracle, opt, s, theta_lo, theta_hi, j0);
   }
-  const double scale = opt.rescale ? 4.0 : 1.0;
+  const double scale = opt.rescale ? 1.0 / fae_rescale_scale : 1.0;
   const double theta = 0.5 * (theta_lo + theta_hi);
   r.raw_estimate = std::pow(scale * std::sin(theta), 2);
   r.estimate = r.raw_estimate;
-  const double theta_max = opt.rescale ? std::asin(0.25) : std::numbers::pi / 2;
+  const double theta_max = opt.rescale ? std::asin(fae_rescale_scale) : std::numbers::pi / 2;
   r.confidence_interval = detail::amplitude_interval(theta_lo, theta_hi, theta_max, scale);
   r.confidence = std::max(0.0, 1.0 - (2.0 * opt.maxiter - j0) * opt.delta);
   detail::finish(r, sw);

@@ -13,6 +13,7 @@
 #include <cstdint>
 
 #include "../circuit/program.hpp"
+#include "../estimation/estimator.hpp"
 #include "../estimation/grover.hpp"
 #include "../estimation/problem.hpp"
 #include "../estimation/result.hpp"
@@ -36,6 +37,17 @@ struct estimate_cost {
   surface_code_plan plan;       // for Q^max_power A
   double seconds = 0;           // the whole estimate
 };
+
+// runs_rescaled(settings): whether the estimator runs A with FAE's rescaling ancilla (fae.hpp).
+inline bool runs_rescaled(const estimator_settings& settings) {
+  return settings.kind == estimator_kind::fae && settings.fae.rescale;
+}
+
+// problem_as_run(problem, settings): the circuit the estimator actually runs.
+template <int = 0>
+inline estimation_problem problem_as_run(const estimation_problem& problem, const estimator_settings& settings) {
+  return runs_rescaled(settings) ? rescaled_problem(problem, fae_rescale_scale) : problem;
+}
 
 // estimate_circuits: A and Q of a problem lowered to Clifford+T once, for costing many
 // estimates of the same problem (their counts do not depend on the estimate).
