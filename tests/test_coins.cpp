@@ -1,7 +1,9 @@
 // Coins: unitary for every direction set and normal, and they scatter as the paper says.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <set>
 
 #include <qrm/walk/coins.hpp>
@@ -39,6 +41,72 @@ TEST_CASE("the paper's 2D Lambertian coin: orthogonal, entries 0 or +-1/2, incom
       CHECK(p == doctest::Approx(expected.count(r) ? 0.25 : 0.0));
     }
   }
+}
+
+namespace {
+
+std::size_t dir2d(int n, int k) { return static_cast<std::size_t>(((n + k) % 8 + 8) % 8); }
+
+// Largest | |U[R r][R d]|^2 - |U[r][d]|^2 | over r, d, with R(n+k) = n-k the mirror about normal n.
+double mirror_asymmetry(const qrm::dense_matrix& u, int n) {
+  double worst = 0;
+  for (int r = 0; r < 8; ++r)
+    for (int d = 0; d < 8; ++d) {
+      const double p = std::norm(u(dir2d(n, r - n), dir2d(n, d - n)));
+      const double mirrored = std::norm(u(dir2d(n, n - r), dir2d(n, n - d)));
+      worst = std::max(worst, std::abs(mirrored - p));
+    }
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("the symmetric 2D Lambertian coin: orthogonal, mirror symmetric, incoming -> a cosine lobe on {n-1, n, n+1}") {
+  // The straight-in lobe, from the cosines alone: P(n) : P(n+-1) = cos 0 : cos 45 deg, summing to 1.
+  const double c0 = std::cos(0.0), c45 = std::cos(std::numbers::pi / 4);
+  const double p_normal = c0 / (c0 + 2 * c45), p_side = c45 / (c0 + 2 * c45);
+  CHECK(std::abs(p_normal - 0.41421356237309503) < 1e-15);
+  CHECK(std::abs(p_side - 0.29289321881345248) < 1e-15);
+  for (int n = 0; n < 8; ++n) {
+    INFO("normal index " << n);
+    const qrm::dense_matrix u = qrm::lambertian_coin_2d_symmetric(n);
+    CHECK(u.dim == 8);
+    CHECK(qrm::unitarity_error(u) < tol);
+    CHECK(u.is_real());
+    CHECK(mirror_asymmetry(u, n) < tol);
+    // Incoming n+3, n+4, n+5 reach only the outgoing n-1, n, n+1 (all of the probability).
+    for (int k : {3, 4, 5}) {
+      double outgoing = 0;
+      for (int r = 0; r < 8; ++r) {
+        const double p = std::norm(u(dir2d(n, r), dir2d(n, k)));
+        if (r == 7 || r == 0 || r == 1)
+          outgoing += p;
+        else
+          CHECK(p == 0.0);
+      }
+      CHECK(std::abs(outgoing - 1.0) < tol);
+    }
+    const auto p_from = [&](int k_in, int k_out) { return std::norm(u(dir2d(n, k_out), dir2d(n, k_in))); };
+    CHECK(std::abs(p_from(4, 0) - p_normal) < tol);
+    CHECK(std::abs(p_from(4, 1) - p_side) < tol);
+    CHECK(std::abs(p_from(4, -1) - p_side) < tol);
+    // The oblique n+3 is forced to P(n) = p_side too, and leans to its specular direction n+1.
+    CHECK(std::abs(p_from(3, 0) - p_side) < tol);
+    CHECK(p_from(3, 1) > 0.6);
+    CHECK(p_from(3, -1) < 0.05);
+    // Outgoing inputs go back into the surface (n+3..n+5), tangent directions are left alone.
+    for (int k : {-1, 0, 1}) {
+      double incoming = 0;
+      for (int r : {3, 4, 5}) incoming += p_from(k, r);
+      CHECK(std::abs(incoming - 1.0) < tol);
+    }
+    CHECK(u(dir2d(n, 2), dir2d(n, 2)) == qrm::complex(1.0));
+    CHECK(u(dir2d(n, -2), dir2d(n, -2)) == qrm::complex(1.0));
+    // What this coin is for: the paper's coin is one-sided about the normal.
+    CHECK(mirror_asymmetry(qrm::lambertian_coin_2d(n), n) > 0.2);
+  }
+  CHECK_THROWS_WITH(qrm::lambertian_coin_2d_symmetric(8), doctest::Contains("0..7, got 8"));
+  CHECK_THROWS_WITH(qrm::lambertian_coin_2d_symmetric(-1), doctest::Contains("0..7, got -1"));
 }
 
 TEST_CASE("2D boundary and specular coins are the expected permutations") {

@@ -4,6 +4,7 @@
 //   vacuum      identity (air: no gate at all)
 //   lambertian  scatter into the outgoing hemisphere in superposition. 2D: the paper's +-1/2
 //               matrix (as in the authors' code), incoming -> {n-2, n-1, n, n+1}, 1/4 each.
+//               lambertian_coin_2d_symmetric: a real 2D coin symmetric about the normal.
 //               3D: incoming -> equal magnitude over the outgoing set, made unitary with the
 //               columns of a Hadamard matrix (real, Sylvester, when the outgoing set has 2^k
 //               directions; otherwise the complex Fourier matrix).
@@ -67,6 +68,40 @@ inline dense_matrix lambertian_coin_2d(int n) {
   dense_matrix u(8);
   for (std::size_t r = 0; r < 8; ++r)
     for (std::size_t c = 0; c < 8; ++c) u(r, c) = 0.5 * m[r][c];
+  return u;
+}
+
+// lambertian_coin_2d_symmetric(n): a real 8x8 Lambertian coin that keeps a mirror-symmetric scene's
+// light map symmetric (the paper's coin is one-sided: incoming -> {n-2, n-1, n, n+1}). It commutes
+// with the mirror about the normal, R(n+k) = n-k. Incoming (n+5, n+4, n+3) -> outgoing (n-1, n, n+1)
+// through G = 2 v v^T - I (a negated Householder reflection), v = (a, b, a): G is symmetric,
+// orthogonal, and unchanged by swapping its first and last index in rows and columns, which is R on
+// both triples. b^2 = (1 + sqrt(p0)) / 2, a^2 = (1 - sqrt(p0)) / 4 make G's middle column
+// (2ab, sqrt(p0), 2ab) the cosine lobe of the straight-in n+4: P(n) : P(n+-1) = cos 0 : cos 45 deg,
+// so P(n) = p0 = sqrt(2) - 1 ~ 0.4142, P(n+-1) = 1 - 1/sqrt(2) ~ 0.2929. That forces the oblique n+3
+// (real entries, mirror symmetry) to lean to one side; here to its specular direction n+1:
+// ((1 + sqrt(p0)) / 2)^2 ~ 0.6753 to n+1, 1 - 1/sqrt(2) ~ 0.2929 to n, ((1 - sqrt(p0)) / 2)^2 ~ 0.0318
+// to n-1 (n+5: the mirror image). The incoming columns fill the outgoing subspace, so outgoing inputs
+// go back into the surface through G^T = G, (n-1, n, n+1) -> (n+5, n+4, n+3); tangent n+-2 stay put.
+template <int = 0>
+inline dense_matrix lambertian_coin_2d_symmetric(int n) {
+  if (n < 0 || n > 7)
+    throw std::invalid_argument("lambertian_coin_2d_symmetric: normal index must be 0..7, got " + std::to_string(n));
+  auto dir = [n](int k) { return static_cast<std::size_t>(((n + k) % 8 + 8) % 8); };
+  const double p0 = 1.0 / (1.0 + std::numbers::sqrt2);  // cos 0 / (cos 0 + 2 cos 45 deg)
+  const double s = std::sqrt(p0);
+  const double a = std::sqrt((1.0 - s) / 4.0), b = std::sqrt((1.0 + s) / 2.0);
+  const double v[3] = {a, b, a};
+  const int in[3] = {5, 4, 3}, out[3] = {-1, 0, 1};
+  dense_matrix u(8);
+  for (std::size_t i = 0; i < 3; ++i)
+    for (std::size_t j = 0; j < 3; ++j) {
+      const double g = 2.0 * v[i] * v[j] - (i == j ? 1.0 : 0.0);
+      u(dir(out[i]), dir(in[j])) = g;  // incoming -> outgoing: G
+      u(dir(in[j]), dir(out[i])) = g;  // outgoing -> incoming: G^T
+    }
+  u(dir(2), dir(2)) = 1.0;
+  u(dir(-2), dir(-2)) = 1.0;
   return u;
 }
 
