@@ -105,6 +105,8 @@ flag_table crossover_flags() {
       {"width", "N", "32", "3D: the image the pixel belongs to (1..1024)", c},
       {"height", "N", "32", "3D: the image the pixel belongs to (1..1024)", c},
       {"steps", "S", "3 in 2D, 6 in 3D", "walk steps (1..8)", c},
+      {"march", "voxel|surface", "the scene's, else surface in 3D (14 cube directions), voxel in 2D",
+       "how the walk moves: one voxel per step (the paper's) or one bounce per step", c},
       {"error", "E", "0.001", "the fault-tolerant error budget of each circuit run, in (0, 1)", c},
       {"repetitions", "R", "64", "seeded runs per budget setting (2..100000)", r},
       {"seed", "S", "1", "random seed (integer >= 0)", r},
@@ -126,14 +128,17 @@ crossover_result run_crossover(const crossover_request& req) {
   const fs::path out = req.out;
   const qrm::io::progress_options po = req.progress;
   const bool three_d = sc.dims() == 3;
-  const qrm::walk_model m(sc, three_d ? qrm::sphere_directions(15, 3) : qrm::king_2d());
+  render_settings rs;
+  rs.scene = sc.name();
+  rs.width = req.width;
+  rs.height = req.height;
+  rs.methods = "quantum";
+  rs.march = req.march.value_or(sc.march().value_or(three_d ? qrm::march_mode::surface : qrm::march_mode::voxel));
+  const qrm::walk_model m(
+      sc, three_d ? qrm::sphere_directions(rs.directions_for(sc), rs.fractional_bits_for(sc)) : qrm::king_2d(), *rs.march);
   cell_data cell;
   std::string where = (three_d ? "pixel (" : "cell (") + std::to_string(xy[0]) + ", " + std::to_string(xy[1]) + ")";
   if (three_d) {
-    render_settings rs;
-    rs.scene = sc.name();
-    rs.width = req.width;
-    rs.height = req.height;
     const auto px = qrm::render::pixel_starts(m, scene_camera(rs, sc));
     const qrm::render::pixel_start& hit = px[static_cast<std::size_t>(xy[1]) * req.width + xy[0]];
     if (!hit.hit) throw usage_error(where + " of a " + std::to_string(req.width) + "x" + std::to_string(req.height) +
@@ -242,7 +247,8 @@ crossover_result run_crossover(const crossover_request& req) {
   std::string md = "# Crossover: fault-tolerant amplitude estimation against Monte Carlo on a CPU\n\n";
   md += "Made by `qrm crossover --scene " + req.scene_arg + " --x " + std::to_string(xy[0]) + " --y " +
         std::to_string(xy[1]) + (three_d ? " --width " + std::to_string(req.width) + " --height " + std::to_string(req.height) : "") +
-        " --steps " + std::to_string(steps) + " --error " + json_number(eps) + " --repetitions " + std::to_string(reps) +
+        " --march " + qrm::march_name(m.march()) + " --steps " + std::to_string(steps) + " --error " + json_number(eps) +
+        " --repetitions " + std::to_string(reps) +
         " --seed " + std::to_string(seed) + "`: " + sc.name() + " " + where + ", channel 0.\n\n";
   md += "Assumptions: Clifford+T with Toffoli = 7 T and rotations ceil(0.53 log2(1/e) + 5.3) T; surface code with "
         "error budget " + json_number(eps) + " per circuit run split in thirds, P_L = 0.03 (p/0.01)^((d+1)/2), one T "
@@ -257,6 +263,7 @@ crossover_result run_crossover(const crossover_request& req) {
 
   json_object summary;
   summary.add("scene", sc.name()).add("x", xy[0]).add("y", xy[1]).add("steps", steps).add("error_budget", eps);
+  summary.add("march", qrm::march_name(m.march())).add("directions", m.direction_count());
   if (three_d) summary.add("width", req.width).add("height", req.height);
   summary.add("mc_slope", mc_fit.slope);
   json_array crossings;
@@ -358,6 +365,7 @@ int cmd_crossover(args& a) {
   r.x = static_cast<unsigned>(a.integer("x", three_d ? r.width / 2 : 3, 0, nx));
   r.y = static_cast<unsigned>(a.integer("y", three_d ? r.height / 2 : 4, 0, ny));
   r.steps = static_cast<unsigned>(a.integer("steps", three_d ? 6 : 3, 1, 8));
+  r.march = march_flag(a);
   r.error_budget = a.number("error", 1e-3);
   if (!(r.error_budget > 0 && r.error_budget < 1)) throw usage_error("--error must be in (0, 1), got " + a.str("error", ""));
   r.repetitions = static_cast<std::size_t>(a.integer("repetitions", 64, 2, 100000));

@@ -2,9 +2,11 @@
 //   1. the 8x8 light map of Fig. 4: FAE (maxiter 5, rescaling) on the fully simulated circuit of
 //      every cell and channel, next to the exact and classical maps, their difference, and the
 //      bilinearly upsampled image;
-//   2. the Cornell box (Fig. 1 left) and the two spheres (Fig. 5), 128x128: the paper's emulator
-//      (32 paths per pixel + FAE), the exact path sum, Monte Carlo; the Cornell box also fully
-//      quantum (every pixel's 3D walk circuit simulated) at 128x128 (the spheres at 64x64);
+//   2. the Cornell box (Fig. 1 left) and the two spheres (Fig. 5), 128x128 at the paper's 8^3 voxels
+//      and voxel march: the paper's emulator (32 paths per pixel + FAE), the exact path sum, Monte
+//      Carlo; fully quantum (every pixel's 3D walk circuit simulated) at 128x128 (the spheres at
+//      64x64); then at scale with the surface march: both scenes at 64^3 voxels, 256x256 (exact,
+//      Monte Carlo, emulator), and the Cornell box fully quantum at 32^3, 128x128;
 //   3. Monte Carlo against the exact image as the path count grows;
 //   4. convergence (Fig. 1 centre): error against the number of estimates, with fitted slopes;
 //   5. what accuracy costs: error against wall time and against oracle calls, per method.
@@ -122,28 +124,35 @@ int cmd_figures(args& a) {
     log.line("");
   }
 
-  // 2. 3D images.
+  // 2. 3D images: the paper's setting (8^3 voxels, the voxel march, 15 directions), then at
+  // scale (the surface march: 64^3 voxels at 256x256; fully quantum at 32^3, 128x128).
   const unsigned size = quick ? 32 : 128;
-  for (const char* name : {"cornell", "spheres"}) {
-    render_settings r3 = s;
-    r3.scene = name;
-    r3.width = r3.height = size;
-    r3.methods = "exact,mc,emulated";
-    const qrm::scene sc = load_render_scene(r3);
-    const auto r = render_images_3d(r3, sc);
-    log.line(std::string("## ") + sc.name() + ", " + std::to_string(size) + "x" + std::to_string(size) + ", " +
-             std::to_string(sc.size()) + "^3 voxels, 15 directions, s = 6, 32 paths per pixel");
-    log.line("");
+  auto image_table = [&](const image3d_summary& r) {
     log.line("| method | seconds | RMSE vs exact |");
     log.line("|---|---|---|");
     for (const auto& [m, t] : r.seconds)
       log.line("| " + m + " | " + fmt(t, "%.2f") + " | " +
                (r.rmse_vs_exact.count(m) ? fmt(r.rmse_vs_exact.at(m)) : std::string("(reference)")) + " |");
     log.line("");
+  };
+  for (const char* name : {"cornell", "spheres"}) {
+    render_settings r3 = s;
+    r3.scene = name;
+    r3.march = qrm::march_mode::voxel;
+    r3.width = r3.height = size;
+    r3.methods = "exact,mc,emulated";
+    const qrm::scene sc = load_render_scene(r3);
+    const auto r = render_images_3d(r3, sc);
+    log.line(std::string("## ") + sc.name() + ", " + std::to_string(size) + "x" + std::to_string(size) + ", " +
+             std::to_string(sc.size()) + "^3 voxels, the paper's voxel march, 15 directions, s = 6 voxel steps, " +
+             "32 paths per pixel");
+    log.line("");
+    image_table(r);
   }
   for (const char* name : {"cornell", "spheres"}) {
     render_settings rq = s;
     rq.scene = name;
+    rq.march = qrm::march_mode::voxel;
     rq.width = rq.height = quick ? 16 : (std::string(name) == "cornell" ? 128 : 64);
     rq.methods = "quantum";
     const qrm::scene sc = load_render_scene(rq);
@@ -152,6 +161,42 @@ int cmd_figures(args& a) {
              "): every pixel's 3D walk circuit (32 qubits at s = 6) simulated on the compact backend, " +
              std::to_string(r.distinct_starts) + " distinct walk starts, " + fmt(r.seconds.at("quantum"), "%.1f") +
              " s; FAE statistics from the simulated state's P(out = 1).");
+    log.line("");
+  }
+  const unsigned big = quick ? 16 : 64, big_size = quick ? 32 : 256;
+  for (const char* name : {"cornell", "spheres"}) {
+    render_settings r3 = s;
+    r3.scene = name;
+    r3.voxels = big;
+    r3.width = r3.height = big_size;
+    r3.paths = 64;
+    r3.methods = "exact,mc,emulated";
+    const qrm::scene sc = load_render_scene(r3);
+    const auto r = render_images_3d(r3, sc);
+    log.line(std::string("## ") + sc.name() + " at scale, " + std::to_string(big_size) + "x" + std::to_string(big_size) +
+             ", " + std::to_string(sc.size()) + "^3 voxels, the surface march (a step is a bounce), " +
+             std::to_string(r3.directions_for(sc)) + " directions, s = 6 bounces, 64 paths per pixel");
+    log.line("");
+    image_table(r);
+  }
+  {
+    render_settings rq = s;
+    rq.scene = "cornell";
+    rq.voxels = quick ? 16 : 32;
+    rq.width = rq.height = quick ? 16 : 128;
+    rq.methods = "exact,quantum";
+    const qrm::scene sc = load_render_scene(rq);
+    const auto r = render_images_3d(rq, sc);
+    log.line("## " + sc.name() + " fully quantum at scale, " + std::to_string(rq.width) + "x" + std::to_string(rq.height) +
+             ", the surface march, " + std::to_string(rq.directions_for(sc)) + " directions, s = 6 bounces");
+    log.line("");
+    log.line("Every distinct pixel start's walk circuit simulated on the compact backend (" +
+             std::to_string(r.distinct_starts) + " starts), FAE statistics from its P(out = 1): " +
+             fmt(r.seconds.at("quantum"), "%.1f") + " s; exact P(out = 1) inside the FAE interval for " +
+             std::to_string(r.inside_interval) + " of " + std::to_string(r.start_channels) +
+             " start-channels; RMSE vs the exact image " + fmt(r.rmse_vs_exact.at("quantum")) +
+             "; largest relative difference between the faithful walk and the classical path sum (interference) " +
+             fmt(100 * r.max_interference, "%.2g") + "%.");
     log.line("");
   }
 
@@ -267,6 +312,9 @@ int cmd_figures(args& a) {
                                  "paper_8x8_lightmap_classical", "paper_8x8_lightmap_upsampled"});
     panel("panel_cornell.png", {"cornell_box_8_exact", "cornell_box_8_mc", "cornell_box_8_emulated", "cornell_box_8_quantum"});
     panel("panel_spheres.png", {"two_spheres_8_exact", "two_spheres_8_mc", "two_spheres_8_emulated", "two_spheres_8_quantum"});
+    panel("panel_cornell_64.png", {"cornell_box_64_exact", "cornell_box_64_mc", "cornell_box_64_emulated"});
+    panel("panel_spheres_64.png", {"two_spheres_64_exact", "two_spheres_64_mc", "two_spheres_64_emulated"});
+    panel("panel_quantum_32.png", {"cornell_box_32_exact", "cornell_box_32_quantum", "cornell_box_32_quantum_exact"});
   }
   log.line("Total: " + fmt(seconds_since(t_all), "%.1f") + " s.");
   qrm::io::write_file_atomically(dir / "summary.md", log.md);

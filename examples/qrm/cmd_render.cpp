@@ -19,11 +19,15 @@ flag_table render_flags() {
   flag_table f = {
       {"scene", "NAME|FILE", "paper_8x8", "paper_4x4, paper_8x8 (2D light maps), cornell, spheres (3D), or a scene file", scene},
       {"voxels", "N", "8", "cornell, spheres: N^3 voxels, a power of two in 4..256", scene},
-      {"steps", "S", "3 in 2D, 6 in 3D", "walk steps (1..16)", scene},
+      {"steps", "S", "3 in 2D, 6 in 3D", "walk steps (1..16): voxels crossed (voxel march) or bounces (surface)", scene},
+      {"march", "voxel|surface", "the scene's, else surface",
+       "how the walk moves: voxel = one voxel per step (the paper's Section 4; paper_4x4 and paper_8x8 ask for it), "
+       "surface = one bounce per step (to the next non-air voxel)",
+       scene},
       {"width", "N", "128", "image width in pixels (1..8192)", img},
       {"height", "N", "128", "image height in pixels (1..8192)", img},
-      {"directions", "D", "15", "directions, 6..256: 6, 14, 26 = the symmetric cube sets, any other D = a golden spiral (the authors used 15)", img},
-      {"fractional-bits", "F", "3", "sub-voxel position bits (1..8; the authors used 3)", img},
+      {"directions", "D", "64 (surface; 14 with --method quantum), 15 (voxel)", "directions, 6..256: 6, 14, 26 = the symmetric cube sets, any other D = a golden spiral (the authors used 15)", img},
+      {"fractional-bits", "F", "4 (surface; 2 with quantum), 3 (voxel)", "sub-voxel position bits (0..8; the authors used 3); 0 with a cube set moves whole voxels (king moves)", img},
       {"method", "LIST", "all", "comma-separated: exact, mc, emulated, quantum; all = exact,mc,emulated", img},
       {"paths", "K", "32", "paths per pixel for mc and emulated (the paper's 32)", img},
       {"grover", "auto|simulated|analytic", "auto",
@@ -62,6 +66,9 @@ int cmd_render(args& a) {
     for (const auto& [m, t] : r.seconds) seconds.add(m, t);
     for (const auto& [m, v] : r.rmse_vs_exact) rmse.add(m, v);
     summary.add("kind", "images").add("seconds", seconds).add("rmse_vs_exact", rmse);
+    if (wants(s, "quantum"))
+      summary.add("distinct_starts", r.distinct_starts).add("start_channels", r.start_channels)
+          .add("exact_inside_interval", r.inside_interval).add("max_relative_interference", r.max_interference);
     summary.add("settings", settings_json(s, sc, s.effective_steps(3)));
   }
   const std::string text = summary.str();

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <qrm/io/progress.hpp>
@@ -59,6 +60,9 @@ struct crossover_request {
   // scene's camera, walked from its first hit as qrm render --method quantum does.
   unsigned x = 3, y = 4, steps = 3;
   unsigned width = 32, height = 32;
+  // The walk's march: this, else the scene's, else the surface march in 3D (with the 14 cube
+  // directions, as qrm render --method quantum) and the paper's voxel march in 2D.
+  std::optional<qrm::march_mode> march;
   double error_budget = 1e-3;
   std::size_t repetitions = 64;
   std::uint64_t seed = 1;

@@ -41,8 +41,9 @@ struct render_settings {
   std::string scene = "paper_8x8";
   unsigned width = 128, height = 128;  // 3D images
   unsigned voxels = 8;                 // 3D built-in scenes: N^3 voxels
-  unsigned directions = 15;            // 3D: golden spiral (the authors' 15) or 6/14/26 cube sets
-  unsigned fractional_bits = 3;        // 3D: sub-voxel position bits (the authors used 3)
+  std::optional<qrm::march_mode> march;  // --march; else the scene's, else surface
+  unsigned directions = 0;             // 3D: 0 = by march (surface: 64, voxel: the authors' 15)
+  int fractional_bits = -1;            // 3D: -1 = by march (surface: 4, voxel: the authors' 3)
   unsigned steps = 0;                  // 0: 3 in 2D (the paper), 6 in 3D
   std::size_t paths = 32;              // 3D: paths per pixel (emulated, Monte Carlo)
   std::string methods = "all";         // 3D: exact, mc, emulated, quantum, all (= exact,mc,emulated)
@@ -64,6 +65,27 @@ struct render_settings {
   float exposure = 1.0f;
 
   unsigned effective_steps(unsigned dims) const { return steps ? steps : (dims == 2 ? 3u : 6u); }
+  qrm::march_mode march_for(const qrm::scene& sc) const {
+    return march.value_or(sc.march().value_or(qrm::march_mode::surface));
+  }
+  // 3D direction sets: for the surface march a golden spiral of 64 directions (a full 6-qubit
+  // register; 26 king moves leave whole walls dark between their 45-degree light footprints)
+  // with 4 sub-voxel bits (displacements round(16 v): each ray within about 2 degrees of its
+  // direction); for the voxel march the authors' 15 directions and 3 sub-voxel bits.
+  // A run that includes the fully quantum method uses the 14 cube directions (2 sub-voxel bits)
+  // for every method it renders: the walk state's support grows as (D / 2)^s, and 128x128 pixels
+  // of the 32^3 box at s = 6 take about a minute with 14 directions, hours with 64.
+  unsigned directions_for(const qrm::scene& sc) const {
+    if (directions) return directions;
+    if (march_for(sc) == qrm::march_mode::voxel) return 15u;
+    return quantum_run() ? 14u : 64u;
+  }
+  unsigned fractional_bits_for(const qrm::scene& sc) const {
+    if (fractional_bits >= 0) return static_cast<unsigned>(fractional_bits);
+    if (march_for(sc) == qrm::march_mode::voxel) return 3u;
+    return quantum_run() ? 2u : 4u;
+  }
+  bool quantum_run() const;
   bool tiled() const { return part.count > 1; }
 };
 
@@ -84,6 +106,14 @@ inline qrm::render::tile parse_tile(const std::string& v) {
   }
 }
 
+// --march voxel|surface, if given.
+inline std::optional<qrm::march_mode> march_flag(args& a) {
+  if (!a.has("march")) return std::nullopt;
+  const std::string m = a.str("march", "");
+  if (m != "voxel" && m != "surface") throw usage_error("--march must be voxel or surface, got '" + m + "'");
+  return m == "voxel" ? qrm::march_mode::voxel : qrm::march_mode::surface;
+}
+
 inline render_settings parse_render_settings(args& a) {
   render_settings s;
   s.scene = a.str("scene", s.scene);
@@ -92,8 +122,9 @@ inline render_settings parse_render_settings(args& a) {
   s.voxels = static_cast<unsigned>(a.integer("voxels", s.voxels, 4, 256));
   if ((s.voxels & (s.voxels - 1)) != 0)
     throw usage_error("--voxels must be a power of two (the walk's position registers), got " + a.str("voxels", ""));
-  s.directions = static_cast<unsigned>(a.integer("directions", s.directions, 6, 256));
-  s.fractional_bits = static_cast<unsigned>(a.integer("fractional-bits", s.fractional_bits, 1, 8));
+  s.march = march_flag(a);
+  if (a.has("directions")) s.directions = static_cast<unsigned>(a.integer("directions", 26, 6, 256));
+  if (a.has("fractional-bits")) s.fractional_bits = static_cast<int>(a.integer("fractional-bits", 0, 0, 8));
   s.steps = static_cast<unsigned>(a.integer("steps", 0, 1, 16));
   s.paths = static_cast<std::size_t>(a.integer("paths", 32, 1, 1 << 24));
   s.methods = a.str("method", s.methods);
@@ -126,6 +157,7 @@ inline bool wants(const render_settings& s, const std::string& method) {
     if (m == method || (m == "all" && method != "quantum")) return true;
   return false;
 }
+inline bool render_settings::quantum_run() const { return wants(*this, "quantum"); }
 
 // The scene a --scene value names: built-in 2D scenes, the 3D Cornell box and two spheres (at
 // --voxels), or a scene file.
@@ -218,9 +250,10 @@ inline json_object settings_json(const render_settings& s, const qrm::scene& sc,
   json_object j;
   j.add("scene", sc.name()).add("dims", sc.dims()).add("size", sc.size()).add("steps", steps).add("seed", s.seed);
   if (sc.dims() == 3) {
-    j.add("width", s.width).add("height", s.height).add("directions", s.directions);
-    j.add("fractional_bits", s.fractional_bits).add("paths", s.paths).add("methods", s.methods);
+    j.add("width", s.width).add("height", s.height).add("directions", s.directions_for(sc));
+    j.add("fractional_bits", s.fractional_bits_for(sc)).add("paths", s.paths).add("methods", s.methods);
   }
+  j.add("march", qrm::march_name(s.march_for(sc)));
   j.add("grover", s.grover_for(sc.dims()) == qrm::render::grover_mode::simulated ? "simulated" : "analytic");
   return j.add("estimator", s.estimator_json);
 }
@@ -261,7 +294,7 @@ inline void write_lightmap_figures(const render_settings& s, const std::string& 
 
 inline lightmap_summary render_lightmap(const render_settings& s, const qrm::scene& sc) {
   const unsigned steps = s.effective_steps(2);
-  const qrm::walk_model model(sc, qrm::king_2d());
+  const qrm::walk_model model(sc, qrm::king_2d(), s.march_for(sc));
   qrm::render::quantum_options o;
   o.steps = steps;
   o.estimator = s.estimator;
@@ -318,6 +351,11 @@ inline lightmap_summary render_lightmap(const render_settings& s, const qrm::sce
 struct image3d_summary {
   std::map<std::string, double> seconds, rmse_vs_exact;
   std::size_t distinct_starts = 0;
+  // Fully quantum: per (start, channel), the exact P(out = 1) inside the estimator's interval,
+  // and the largest relative difference between the faithful (interfering) walk and the
+  // classical path sum (interference, as in the 2D light map).
+  std::size_t start_channels = 0, inside_interval = 0;
+  double max_interference = 0;
   std::vector<std::string> written;
 };
 
@@ -334,7 +372,8 @@ inline qrm::render::camera scene_camera(const render_settings& s, const qrm::sce
 
 inline image3d_summary render_images_3d(const render_settings& s, const qrm::scene& sc) {
   const unsigned steps = s.effective_steps(3);
-  const qrm::walk_model model(sc, qrm::sphere_directions(s.directions, s.fractional_bits));
+  const qrm::walk_model model(sc, qrm::sphere_directions(s.directions_for(sc), s.fractional_bits_for(sc)),
+                              s.march_for(sc));
   const qrm::render::camera cam = scene_camera(s, sc);
   qrm::render::render_options ro;
   ro.steps = steps;
@@ -378,6 +417,12 @@ inline image3d_summary render_images_3d(const render_settings& s, const qrm::sce
       const auto qi = qrm::render::render_quantum(model, cam, q);
       img = qi.estimated;
       out.distinct_starts = qi.distinct_starts;
+      for (const auto& e : qi.starts) {
+        if (!e.computed) continue;
+        ++out.start_channels;
+        out.inside_interval += e.exact >= e.interval[0] && e.exact <= e.interval[1];
+        if (e.classical > 0) out.max_interference = std::max(out.max_interference, std::abs(e.exact - e.classical) / e.classical);
+      }
       write_image(s, base + "_quantum_exact", qi.exact, out.written);
       bases.push_back(base + "_quantum_exact");
     }

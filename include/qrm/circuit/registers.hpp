@@ -11,7 +11,7 @@
 namespace qrm {
 
 // What a register holds in the ray-marching circuit; generic circuits use `ancilla`.
-enum class role : unsigned char { position, direction, emission, reflectance, steps, out, history, ancilla };
+enum class role : unsigned char { position, direction, emission, reflectance, steps, out, history, distance, ancilla };
 
 constexpr std::string_view role_name(role r) {
   switch (r) {
@@ -22,6 +22,7 @@ constexpr std::string_view role_name(role r) {
     case role::steps: return "steps";
     case role::out: return "out";
     case role::history: return "history";
+    case role::distance: return "distance";
     case role::ancilla: return "ancilla";
   }
   return "?";
@@ -93,6 +94,8 @@ template <detail::fixed_string Name = "out">
 using output = reg<Name, 1, role::out>;
 template <detail::fixed_string Name, std::size_t Width>
 using history = reg<Name, Width, role::history>;
+template <detail::fixed_string Name, std::size_t Width>
+using distance = reg<Name, Width, role::distance>;
 template <detail::fixed_string Name, std::size_t Width>
 using ancilla = reg<Name, Width, role::ancilla>;
 

@@ -195,7 +195,7 @@ inline rgb3 path_sum_rgb(const qrm::detail::transition_table& t, const walk_star
     next.clear();
     for (const entry& e : weight)
       for (const auto& tr : t.out(m.voxel_of(e.w.pos), e.w.dir))
-        next.push_back({{m.shifted(e.w.pos, tr.direction), tr.direction},
+        next.push_back({{m.moved(e.w.pos, tr.direction), tr.direction},
                         {e.p[0] * tr.probability, e.p[1] * tr.probability, e.p[2] * tr.probability}});
     std::stable_sort(next.begin(), next.end(), by_state);
     reduce(next, weight);
@@ -210,20 +210,100 @@ inline rgb3 path_sum_rgb(const qrm::detail::transition_table& t, const walk_star
   return expected;
 }
 
+// radiance_table: E[f] of every (voxel, direction) walk start at once, by dynamic programming
+// backwards over the steps to go: with V_0 = 0,
+//     V_i(v, d) = sum over the coin's (d', p) at v:  p * (Le(w) + rho(w) * V_{i-1}(w, d')),
+// w the voxel the walker moves to from v's centre in direction d'. Polynomial: steps x states x
+// transitions, never paths. It applies when the walker sits at voxel centres between steps
+// (the surface march, or whole-voxel displacements), so that (voxel, direction) is the whole
+// walker state; states are the non-air voxels and every voxel a move from them reaches.
+// V_s(v, d) equals qrm::path_sum for the start (v, d) up to rounding (a different summation
+// order; tested to 1e-12).
+class radiance_table {
+ public:
+  // applies(model): whether the walker's states are (voxel, direction) pairs.
+  static bool applies(const walk_model& m) { return m.march() == march_mode::surface || m.fractional_bits() == 0; }
+
+  radiance_table(const qrm::detail::transition_table& t, unsigned steps, unsigned threads = 0)
+      : model_(&t.model()), d_(t.model().direction_count()) {
+    const walk_model& m = t.model();
+    if (!applies(m))
+      throw std::invalid_argument("radiance_table: the walker leaves voxel centres (voxel march with sub-voxel bits)");
+    const scene& sc = m.scene_data();
+    const std::size_t none = ~std::size_t{0};
+    slot_.assign(sc.voxel_count(), none);
+    for (std::size_t v = 0; v < sc.voxel_count(); ++v)
+      if (sc[v].kind != material::air) add_voxel(v);
+    // Where each state's moves land (adding the voxels reached, air included, until closed).
+    landing_.clear();
+    for (std::size_t k = 0; k < voxels_.size(); ++k)
+      for (std::uint32_t d = 0; d < d_; ++d) {
+        const auto centre = m.centre_of(sc.coords(voxels_[k]));
+        const std::size_t w = m.voxel_of(m.moved(centre, d));
+        if (slot_[w] == none) add_voxel(w);
+        landing_.push_back(static_cast<std::uint32_t>(slot_[w]));
+      }
+    std::vector<rgb3> prev(voxels_.size() * d_, rgb3{0, 0, 0});
+    value_ = prev;
+    const unsigned workers = qrm::detail::threads_or_hardware(threads);
+    constexpr std::size_t chunk = 4096;
+    const std::size_t states = value_.size();
+    for (unsigned i = 0; i < steps; ++i) {
+      qrm::detail::parallel_jobs((states + chunk - 1) / chunk, workers, [&](std::size_t job) {
+        for (std::size_t st = job * chunk; st < std::min(states, (job + 1) * chunk); ++st) {
+          const std::size_t k = st / d_;
+          rgb3 acc{0, 0, 0};
+          for (const auto& tr : t.out(voxels_[k], static_cast<std::uint32_t>(st % d_))) {
+            const std::uint32_t w = landing_[k * d_ + tr.direction];
+            const voxel& vx = sc[voxels_[w]];
+            const rgb3& next = prev[static_cast<std::size_t>(w) * d_ + tr.direction];
+            for (std::size_t c = 0; c < 3; ++c)
+              acc[c] += tr.probability * (vx.emission[static_cast<int>(c)] + vx.reflectance[static_cast<int>(c)] * next[c]);
+          }
+          value_[st] = acc;
+        }
+      });
+      std::swap(prev, value_);
+    }
+    std::swap(prev, value_);
+  }
+
+  // E[f] of the walk from voxel v's centre in direction d; v must be a table state (every
+  // non-air voxel is).
+  const rgb3& value(std::size_t voxel_index, std::uint32_t d) const {
+    const std::size_t k = slot_[voxel_index];
+    if (k == ~std::size_t{0}) throw std::out_of_range("radiance_table: voxel " + std::to_string(voxel_index) + " is not a table state");
+    return value_[k * d_ + d];
+  }
+  std::size_t states() const { return value_.size(); }
+
+ private:
+  void add_voxel(std::size_t v) {
+    slot_[v] = voxels_.size();
+    voxels_.push_back(v);
+  }
+  const walk_model* model_;
+  std::size_t d_;
+  std::vector<std::size_t> slot_;       // per scene voxel: its index in voxels_, or none
+  std::vector<std::size_t> voxels_;     // table voxels
+  std::vector<std::uint32_t> landing_;  // per (table voxel, direction): the table voxel a move lands in
+  std::vector<rgb3> value_;             // per (table voxel, direction): V_steps
+};
+
 struct monte_carlo_rgb {
   rgb3 mean{0, 0, 0}, standard_error{0, 0, 0};
   std::uint64_t paths = 0;
 };
 
-// monte_carlo_rgb_walk(tables, start, steps, paths, g): qrm::monte_carlo for all three channels
-// with one set of paths; each channel's result is bit-identical to qrm::monte_carlo's with a
-// generator in the same state (the channels share the paths, as a spectral path tracer would).
+}  // namespace qrm::render
+
+namespace qrm::detail {
+// One random path of a walk: its contribution f per channel. The generator is read as
+// qrm::monte_carlo reads it: one uniform for the initial state, then one per step.
 template <int = 0>
-inline monte_carlo_rgb monte_carlo_rgb_walk(const qrm::detail::transition_table& t, const walk_start& start, unsigned steps,
-                                            std::uint64_t paths, rng& g) {
-  if (paths == 0) throw std::invalid_argument("monte_carlo: paths must be positive");
+inline render::rgb3 random_path_f(const transition_table& t, const std::vector<std::pair<walk_state, complex>>& init,
+                                  unsigned steps, rng& g) {
   const walk_model& m = t.model();
-  const auto init = m.initial_states(start);
   auto pick_init = [&] {
     double u = g.uniform(), acc = 0;
     for (std::size_t k = 0; k < init.size(); ++k) {
@@ -232,30 +312,45 @@ inline monte_carlo_rgb monte_carlo_rgb_walk(const qrm::detail::transition_table&
     }
     return init.size() - 1;
   };
-  rgb3 sum{0, 0, 0}, sum2{0, 0, 0};
-  for (std::uint64_t n = 0; n < paths; ++n) {
-    walk_state w = init[pick_init()].first;
-    rgb3 prefix{1, 1, 1}, f{0, 0, 0};
-    for (unsigned i = 0; i < steps; ++i) {
-      const auto options = t.out(m.voxel_of(w.pos), w.dir);
-      const double u = g.uniform();
-      double acc = 0;
-      std::size_t k = options.size() - 1;
-      for (std::size_t j = 0; j < options.size(); ++j) {
-        acc += options[j].probability;
-        if (u < acc) {
-          k = j;
-          break;
-        }
-      }
-      const std::uint32_t d = options[k].direction;
-      w = {m.shifted(w.pos, d), d};
-      const voxel& vx = m.scene_data()[m.voxel_of(w.pos)];
-      for (std::size_t c = 0; c < 3; ++c) {
-        f[c] += prefix[c] * vx.emission[static_cast<int>(c)];
-        prefix[c] *= vx.reflectance[static_cast<int>(c)];
+  walk_state w = init[pick_init()].first;
+  render::rgb3 prefix{1, 1, 1}, f{0, 0, 0};
+  for (unsigned i = 0; i < steps; ++i) {
+    const auto options = t.out(m.voxel_of(w.pos), w.dir);
+    const double u = g.uniform();
+    double acc = 0;
+    std::size_t k = options.size() - 1;
+    for (std::size_t j = 0; j < options.size(); ++j) {
+      acc += options[j].probability;
+      if (u < acc) {
+        k = j;
+        break;
       }
     }
+    const std::uint32_t d = options[k].direction;
+    w = {m.moved(w.pos, d), d};
+    const voxel& vx = m.scene_data()[m.voxel_of(w.pos)];
+    for (std::size_t c = 0; c < 3; ++c) {
+      f[c] += prefix[c] * vx.emission[static_cast<int>(c)];
+      prefix[c] *= vx.reflectance[static_cast<int>(c)];
+    }
+  }
+  return f;
+}
+}  // namespace qrm::detail
+
+namespace qrm::render {
+
+// monte_carlo_rgb_walk(tables, start, steps, paths, g): qrm::monte_carlo for all three channels
+// with one set of paths; each channel's result is bit-identical to qrm::monte_carlo's with a
+// generator in the same state (the channels share the paths, as a spectral path tracer would).
+template <int = 0>
+inline monte_carlo_rgb monte_carlo_rgb_walk(const qrm::detail::transition_table& t, const walk_start& start, unsigned steps,
+                                            std::uint64_t paths, rng& g) {
+  if (paths == 0) throw std::invalid_argument("monte_carlo: paths must be positive");
+  const auto init = t.model().initial_states(start);
+  rgb3 sum{0, 0, 0}, sum2{0, 0, 0};
+  for (std::uint64_t n = 0; n < paths; ++n) {
+    const rgb3 f = qrm::detail::random_path_f(t, init, steps, g);
     for (std::size_t c = 0; c < 3; ++c) {
       sum[c] += f[c];
       sum2[c] += f[c] * f[c];
@@ -334,7 +429,7 @@ inline path_set enumerate_paths(const qrm::detail::transition_table& t, const wa
       return;
     }
     for (const auto& tr : t.out(m.voxel_of(w.pos), w.dir)) {
-      const walk_state n{m.shifted(w.pos, tr.direction), tr.direction};
+      const walk_state n{m.moved(w.pos, tr.direction), tr.direction};
       const std::size_t v = m.voxel_of(n.pos);
       const voxel& vx = m.scene_data()[v];
       rgb3 p2, f2;
@@ -394,6 +489,22 @@ inline render_start_groups group_render_starts(const std::vector<render::pixel_s
           g.keys.begin());
   return g;
 }
+// for_each_hit_pixel(pixels, threads, options, job): job(k) for every pixel k of the tile whose
+// camera ray hits the scene, in parallel; the progress callback counts every pixel.
+template <class Job>
+void for_each_hit_pixel(const std::vector<render::pixel_start>& px, unsigned threads, const render::render_options& o,
+                        Job&& job) {
+  parallel_jobs(px.size(), threads, [&](std::size_t k) {
+    const struct report_at_exit {
+      const render::render_options& o;
+      std::size_t total;
+      ~report_at_exit() {
+        if (o.progress) o.progress(1, total);
+      }
+    } report{o, px.size()};
+    if (px[k].hit) job(k);
+  });
+}
 template <int = 0>
 inline walk_start render_start_of(const scene& sc, const std::pair<std::size_t, int>& key) {
   walk_start s;
@@ -412,7 +523,8 @@ inline void shade_pixel(render::image& img, std::size_t p, const voxel& v, const
 
 namespace qrm::render {
 
-// render_exact(model, camera, options): every pixel's exact radiance (the path sum).
+// render_exact(model, camera, options): every pixel's exact radiance (the path sum): by the
+// radiance_table when the walker's states are (voxel, direction) pairs, else per start.
 template <int = 0>
 inline image render_exact(const walk_model& m, const camera& cam, const render_options& o = {}) {
   const unsigned threads = qrm::detail::threads_or_hardware(o.threads);
@@ -421,10 +533,17 @@ inline image render_exact(const walk_model& m, const camera& cam, const render_o
   const auto groups = qrm::detail::group_render_starts(px);
   const qrm::detail::transition_table tables(m);
   std::vector<rgb3> value(groups.keys.size());
-  qrm::detail::parallel_jobs(groups.keys.size(), threads, [&](std::size_t k) {
-    value[k] = path_sum_rgb(tables, qrm::detail::render_start_of(m.scene_data(), groups.keys[k]), o.steps);
-    if (o.progress) o.progress(1, groups.keys.size());
-  });
+  if (radiance_table::applies(m)) {
+    const radiance_table table(tables, o.steps, threads);
+    for (std::size_t k = 0; k < groups.keys.size(); ++k)
+      value[k] = table.value(groups.keys[k].first, static_cast<std::uint32_t>(groups.keys[k].second));
+    if (o.progress) o.progress(groups.keys.size(), groups.keys.size());
+  } else {
+    qrm::detail::parallel_jobs(groups.keys.size(), threads, [&](std::size_t k) {
+      value[k] = path_sum_rgb(tables, qrm::detail::render_start_of(m.scene_data(), groups.keys[k]), o.steps);
+      if (o.progress) o.progress(1, groups.keys.size());
+    });
+  }
   image img(cam.width(), cam.height());
   for (std::size_t k = 0; k < px.size(); ++k)
     if (px[k].hit)
@@ -449,15 +568,7 @@ inline monte_carlo_image render_monte_carlo(const walk_model& m, const camera& c
   const pixel_range r = tile_pixels(static_cast<std::size_t>(cam.width()) * cam.height(), o.part);
   const qrm::detail::transition_table tables(m);
   monte_carlo_image out{image(cam.width(), cam.height()), image(cam.width(), cam.height())};
-  qrm::detail::parallel_jobs(px.size(), threads, [&](std::size_t k) {
-    const struct report_at_exit {
-      const render_options& o;
-      std::size_t total;
-      ~report_at_exit() {
-        if (o.progress) o.progress(1, total);
-      }
-    } report{o, px.size()};
-    if (!px[k].hit) return;
+  qrm::detail::for_each_hit_pixel(px, threads, o, [&](std::size_t k) {
     const std::size_t p = r.begin + k;
     rng g = rng::stream(seed, p);
     const monte_carlo_rgb est = monte_carlo_rgb_walk(tables, px[k].start, o.steps, paths, g);
@@ -488,9 +599,15 @@ struct emulated_image {
   image exact;    // Le + rho * (the exact mean over all paths)
 };
 
-// render_emulated(model, camera, emulation, options): the paper's emulator: per pixel, every
-// branching path from its walk start is enumerated, K of them are drawn by probability with
-// rng::stream(seed, pixel), and their mean contribution (or `estimate`) gives the pixel.
+// render_emulated(model, camera, emulation, options): the paper's emulator: per pixel, K paths
+// are drawn by probability with rng::stream(seed, pixel), and their mean contribution (or
+// `estimate`) gives the pixel. Where the radiance_table applies (the walker's states are
+// (voxel, direction) pairs) the paths are drawn as random walks and the exact mean comes from
+// the table: polynomial at any size. Otherwise (the voxel march with sub-voxel bits, the
+// authors' setting) every branching path of the pixel's start is enumerated and the K paths
+// drawn from that list (exponential in steps: see emulation_options::path_budget). Either way
+// the K paths have the same distribution. A channel whose exact mean is 0 (no path reaches an
+// emitter through non-zero reflectances) is 0, without an estimator.
 template <int = 0>
 inline emulated_image render_emulated(const walk_model& m, const camera& cam, const emulation_options& e,
                                       const render_options& o = {}) {
@@ -498,15 +615,47 @@ inline emulated_image render_emulated(const walk_model& m, const camera& cam, co
   const unsigned threads = qrm::detail::threads_or_hardware(o.threads);
   const auto px = pixel_starts(m, cam, o.part, threads);
   const pixel_range r = tile_pixels(static_cast<std::size_t>(cam.width()) * cam.height(), o.part);
+  const qrm::detail::transition_table tables(m);
+  const scene& sc = m.scene_data();
+  const rgb3 scale{sc.emission_scale(0), sc.emission_scale(1), sc.emission_scale(2)};
+  emulated_image out{image(cam.width(), cam.height()), image(cam.width(), cam.height())};
+  // The pixel's estimate from its K sampled contributions.
+  auto estimate = [&](const std::vector<rgb3>& samples, const rgb3& exact, std::vector<double>& channel, rng& g) {
+    rgb3 est{0, 0, 0};
+    for (std::size_t c = 0; c < 3; ++c) {
+      if (exact[c] == 0) continue;
+      for (std::size_t j = 0; j < samples.size(); ++j) channel[j] = samples[j][c];
+      if (e.estimate) {
+        est[c] = e.estimate(channel, o.steps, scale[c], g);
+      } else {
+        double sum = 0;
+        for (double x : channel) sum += x;
+        est[c] = sum / static_cast<double>(channel.size());
+      }
+    }
+    return est;
+  };
+  if (radiance_table::applies(m)) {
+    const radiance_table table(tables, o.steps, threads);
+    qrm::detail::for_each_hit_pixel(px, threads, o, [&](std::size_t k) {
+      const std::size_t p = r.begin + k;
+      const voxel& v = sc[px[k].voxel];
+      const rgb3& exact = table.value(px[k].voxel, static_cast<std::uint32_t>(px[k].start.direction));
+      qrm::detail::shade_pixel(out.exact, p, v, exact);
+      rng g = rng::stream(e.seed, p);
+      const auto init = m.initial_states(px[k].start);
+      std::vector<rgb3> samples(e.paths_per_pixel);
+      for (rgb3& f : samples) f = qrm::detail::random_path_f(tables, init, o.steps, g);
+      std::vector<double> channel(e.paths_per_pixel);
+      qrm::detail::shade_pixel(out.sampled, p, v, estimate(samples, exact, channel, g));
+    });
+    return out;
+  }
   const auto groups = qrm::detail::group_render_starts(px);
   // Pixels of each start, in pixel order.
   std::vector<std::vector<std::size_t>> members(groups.keys.size());
   for (std::size_t k = 0; k < px.size(); ++k)
     if (px[k].hit) members[groups.key_of_pixel[k]].push_back(k);
-  const qrm::detail::transition_table tables(m);
-  const scene& sc = m.scene_data();
-  const rgb3 scale{sc.emission_scale(0), sc.emission_scale(1), sc.emission_scale(2)};
-  emulated_image out{image(cam.width(), cam.height()), image(cam.width(), cam.height())};
   qrm::detail::parallel_jobs(groups.keys.size(), threads, [&](std::size_t key) {
     const path_set ps =
         enumerate_paths(tables, qrm::detail::render_start_of(sc, groups.keys[key]), o.steps, e.path_budget);
@@ -517,19 +666,7 @@ inline emulated_image render_emulated(const walk_model& m, const camera& cam, co
       const voxel& v = sc[px[k].voxel];
       qrm::detail::shade_pixel(out.exact, p, v, exact);
       rng g = rng::stream(e.seed, p);
-      const auto samples = ps.sample_paths(e.paths_per_pixel, g);
-      rgb3 est{0, 0, 0};
-      for (std::size_t c = 0; c < 3; ++c) {
-        for (std::size_t j = 0; j < samples.size(); ++j) channel[j] = samples[j][c];
-        if (e.estimate) {
-          est[c] = e.estimate(channel, o.steps, scale[c], g);
-        } else {
-          double s = 0;
-          for (double x : channel) s += x;
-          est[c] = s / static_cast<double>(channel.size());
-        }
-      }
-      qrm::detail::shade_pixel(out.sampled, p, v, est);
+      qrm::detail::shade_pixel(out.sampled, p, v, estimate(ps.sample_paths(e.paths_per_pixel, g), exact, channel, g));
     }
     if (o.progress) o.progress(1, groups.keys.size());
   });

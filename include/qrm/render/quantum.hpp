@@ -17,6 +17,7 @@
 // of their own, so they are bit-identical for any thread count and for any tiling.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -81,6 +82,9 @@ quantum_estimate estimate_walk(const walk_model& m, const walk_start& start, int
   q.channel = channel;
   q.computed = true;
   q.radiance_scale = static_cast<double>(o.steps) * w.tables.emission_scale;
+  // No path term can fire (pruning found none: no emitter reachable through non-zero
+  // reflectances): P(out = 1) is exactly 0, and so is the answer, without an estimator.
+  if (std::none_of(w.tables.term_kept.begin(), w.tables.term_kept.end(), [](bool k) { return k; })) return q;
   q.classical = path_sum(m, start, o.steps, channel) / q.radiance_scale;
   const estimation_problem problem{w.circuit, {control{w.out, true}}};
   auto finish = [&](auto& oracle) {
@@ -213,6 +217,7 @@ inline path_estimator amplitude_path_estimator(estimator_settings settings) {
     double mean = 0;
     for (double v : f) mean += v;
     mean /= static_cast<double>(std::max<std::size_t>(1, f.size()));
+    if (mean == 0) return 0.0;  // the K-path state has no term that can fire: P(out = 1) = 0
     const double scale = static_cast<double>(steps) * emission_scale;
     analytic_oracle oracle(std::clamp(mean / scale, 0.0, 1.0));
     return estimate_amplitude(oracle, settings, g).estimate * scale;

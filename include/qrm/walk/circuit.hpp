@@ -5,7 +5,10 @@
 //   step i  Coin    one multiplexed unitary on the direction register, selected by the voxel
 //                   index (one entry per non-air voxel: the paper's position-controlled coins);
 //           [History: copy the direction into fresh qubits, making paths orthogonal]
-//           Shift   per direction d and axis: add d's displacement, controlled by dir == d;
+//           Shift   per direction d and axis: add d's displacement, controlled by dir == d
+//                   (the voxel march); or March (the surface march, walk_model.hpp): look up
+//                   the distance k to the next surface into fresh qubits, add k times d's
+//                   displacement;
 //           Sample  multiplexed Ry(2 asin sqrt(v)) into Le_i (v = Le / scale) and, except after
 //                   the last step, into rho_i (v = rho), selected by the voxel index.
 //   Path    steps register in uniform superposition over the S = s terms; term i flips `out`
@@ -21,7 +24,7 @@
 //              (its classical support) get coin and sample entries. Gates on voxels the walker
 //              cannot be at act on zero amplitude, so the state and P(out=1) are unchanged.
 //
-// Register order (first = least significant): out, steps, Le, rho, history, dir, x, y, z, so
+// Register order (first = least significant): out, steps, Le, rho, history, dist, dir, x, y, z, so
 // the voxel-index select register sits on the highest qubits (each multiplexer entry then
 // touches one contiguous block of the dense state).
 #pragma once
@@ -83,6 +86,9 @@ struct walk_tables {
   std::vector<std::vector<mux_unitary_entry>> coin_entries;  // per step
   std::vector<std::vector<mux1_entry>> le_entries;           // per step
   std::vector<std::vector<mux1_entry>> rho_entries;          // per step (s - 1 of them)
+  march_mode march = march_mode::voxel;
+  unsigned distance_bits = 0;                                // surface march: qubits of k per step
+  std::vector<std::vector<march_entry>> march_lookup;        // surface march: per step
   std::vector<bool> term_kept;                               // per path term
 };
 
@@ -124,12 +130,22 @@ inline walk_tables build_walk_tables(const walk_model& m, const walk_start& star
   t.start_pos = init[0].first.pos;
   t.start_dir = start.direction;
 
+  t.march = m.march();
+  t.distance_bits = m.distance_bits();
+  const bool surface = m.march() == march_mode::surface;
+  const unsigned voxel_bits = m.dims() * m.position_bits();
+  auto march_select = [&](const std::array<std::uint64_t, 3>& pos, std::uint32_t d) {
+    return static_cast<std::uint64_t>(m.voxel_of(pos)) | (std::uint64_t{d} << voxel_bits);
+  };
+
   const std::size_t voxels = sc.voxel_count();
   const unsigned s = o.steps;
+  if (surface) t.march_lookup.resize(s);
   // Voxels whose gates step i needs: before the coin (coin) and after the shift (samples).
   std::vector<std::vector<std::size_t>> coin_voxels(s), sample_voxels(s);
   if (o.prune == pruning::reachable) {
     std::set<walk_state> support;
+    std::set<std::pair<std::uint64_t, std::uint64_t>> lookup;
     for (const auto& [w, a] : init) support.insert(w);
     for (unsigned i = 0; i < s; ++i) {
       std::set<std::size_t> here, there;
@@ -138,19 +154,35 @@ inline walk_tables build_walk_tables(const walk_model& m, const walk_start& star
         const std::size_t v = m.voxel_of(w.pos);
         here.insert(v);
         for (const auto& [d, amp] : m.scatter(v, w.dir)) {
-          walk_state n{m.shifted(w.pos, d), d};
+          const walk_model::move mv = m.moved_by(w.pos, d);
+          if (surface) lookup.insert({march_select(w.pos, d), mv.distance});
+          walk_state n{mv.pos, d};
           next.insert(n);
           there.insert(m.voxel_of(n.pos));
         }
       }
       coin_voxels[i].assign(here.begin(), here.end());
       sample_voxels[i].assign(there.begin(), there.end());
+      if (surface) {
+        for (const auto& [sel, k] : lookup) t.march_lookup[i].push_back({sel, k});
+        lookup.clear();
+      }
       support = std::move(next);
     }
   } else {
     std::vector<std::size_t> all(voxels);
     for (std::size_t v = 0; v < voxels; ++v) all[v] = v;
     for (unsigned i = 0; i < s; ++i) coin_voxels[i] = sample_voxels[i] = all;
+    if (surface) {
+      // Every voxel and direction (the walker sits at voxel centres between steps).
+      std::vector<march_entry> table;
+      for (std::size_t v = 0; v < voxels; ++v)
+        for (std::uint32_t d = 0; d < m.direction_count(); ++d) {
+          const auto centre = m.centre_of(sc.coords(v));
+          table.push_back({march_select(centre, d), m.moved_by(centre, d).distance});
+        }
+      for (unsigned i = 0; i < s; ++i) t.march_lookup[i] = table;
+    }
   }
 
   const bool keep_identities = o.prune == pruning::none;
@@ -180,12 +212,32 @@ inline walk_tables build_walk_tables(const walk_model& m, const walk_start& star
       }
     }
   }
-  // Path terms: term i needs some Le_i and every rho_k (k < i) to be possibly nonzero.
+  // Path terms: term i needs some Le_i and every rho_k (k < i) to be possibly nonzero; with
+  // reachable pruning, on one path: an emitter reached at step i through voxels of non-zero
+  // reflectance (the live support), so a start whose value is exactly 0 keeps no term.
+  std::vector<bool> live_term(s, true);
+  if (o.prune == pruning::reachable) {
+    std::set<walk_state> live;
+    for (const auto& [w, a] : init) live.insert(w);
+    for (unsigned i = 0; i < s; ++i) {
+      std::set<walk_state> next;
+      bool fires = false;
+      for (const walk_state& w : live)
+        for (const auto& [d, amp] : m.scatter(m.voxel_of(w.pos), w.dir)) {
+          const walk_state n{m.moved(w.pos, d), d};
+          const std::size_t v = m.voxel_of(n.pos);
+          fires = fires || m.emission(v, o.channel) > 0;
+          if (m.reflectance(v, o.channel) > 0) next.insert(n);
+        }
+      live_term[i] = fires;
+      live = std::move(next);
+    }
+  }
   t.term_kept.assign(s, true);
   if (!keep_identities) {
     bool rho_possible = true;
     for (unsigned i = 0; i < s; ++i) {
-      t.term_kept[i] = rho_possible && !t.le_entries[i].empty();
+      t.term_kept[i] = rho_possible && !t.le_entries[i].empty() && live_term[i];
       if (!t.term_kept[i]) t.le_entries[i].clear();
       if (i + 1 < s) rho_possible = rho_possible && !t.rho_entries[i].empty();
     }
@@ -197,6 +249,7 @@ inline walk_tables build_walk_tables(const walk_model& m, const walk_start& star
       if (k + 1 >= last) t.rho_entries[k].clear();
     t.emitted_steps = last;
     for (unsigned i = last; i < s; ++i) t.coin_entries[i].clear();
+    if (surface) t.march_lookup.resize(last);
   } else {
     t.emitted_steps = s;
   }
@@ -269,6 +322,9 @@ struct walk_shape {
   using history = std::conditional_t<
       Variant == walk_variant::faithful || (!dyn_s && Steps == 1), detail::absent_register,
       walk_registers::history<detail::width_or_dynamic(dyn_s || dyn_d, dyn_s || dyn_d ? 0 : (Steps - 1) * DirectionBits)>>;
+  // The surface march's distance register: run-time walks only (a static shape is the paper's
+  // voxel march).
+  using distance = std::conditional_t<is_static, detail::absent_register, walk_registers::distance<dynamic_width>>;
   using direction = walk_registers::direction<DirectionBits>;
   static constexpr std::size_t axis_width = detail::width_or_dynamic(dyn_p, dyn_p ? 0 : PositionBits + FractionalBits);
   using axes = std::conditional_t<Dims == 2, detail::type_list<walk_registers::x<axis_width>, walk_registers::y<axis_width>>,
@@ -276,7 +332,7 @@ struct walk_shape {
                                                     walk_registers::z<axis_width>>>;
   using layout = typename detail::layout_of_list<typename detail::drop_absent_registers<
       detail::type_list<>,
-      detail::list_join_t<detail::type_list<out, steps, emission, reflectance, history, direction>, axes>>::type>::type;
+      detail::list_join_t<detail::type_list<out, steps, emission, reflectance, history, distance, direction>, axes>>::type>::type;
 };
 
 // A walk whose sizes and variant are known only at run time (what the CLI, light maps and
@@ -298,6 +354,7 @@ std::array<std::size_t, sizeof...(R)> walk_register_widths(type_list<R...>, cons
       case role::emission: return s;
       case role::reflectance: return s - 1;
       case role::history: return v == walk_variant::history ? (s - 1) * m.direction_bits() : 0;
+      case role::distance: return s * m.distance_bits();
       case role::direction: return m.direction_bits();
       case role::position: return m.position_bits() + m.fractional_bits();
       case role::ancilla: break;
@@ -325,6 +382,7 @@ class walk_circuit {
   using coin_gate = walk_coin<typename Shape::direction, axes>;
   using history_gate = walk_history<typename Shape::direction, typename Shape::history>;
   using shift_gate = walk_shift<typename Shape::direction, axes>;
+  using march_gate = walk_march<typename Shape::direction, axes, typename Shape::distance>;
   using sample_gate = walk_sample<typename Shape::emission, typename Shape::reflectance, axes>;
   using path_gate = walk_path<typename Shape::steps, typename Shape::emission, typename Shape::reflectance,
                               typename Shape::out>;
@@ -334,7 +392,9 @@ class walk_circuit {
     coin_gate coin;
     bool copy_history = false;
     history_gate history;
-    shift_gate shift;
+    shift_gate shift;  // the voxel march
+    bool surface_march = false;
+    march_gate march;  // the surface march
     sample_gate sample;
   };
 
@@ -355,6 +415,16 @@ class walk_circuit {
       g.copy_history = t.variant == walk_variant::history && i + 1 < t.emitted_steps;
       g.history.step = i;
       g.shift.displacement = displacement;
+      if (t.march == march_mode::surface) {
+        if constexpr (Shape::is_static)
+          throw std::invalid_argument("walk: a static walk shape runs the voxel march; the surface march needs a run-time shape");
+        g.surface_march = true;
+        g.march.step = i;
+        g.march.distance_bits = t.distance_bits;
+        g.march.fractional_bits = frac;
+        g.march.lookup = t.march_lookup[i];
+        g.march.displacement = displacement;
+      }
       g.sample.step = i;
       g.sample.le = t.le_entries[i];
       if (i + 1 < t.steps) g.sample.rho = t.rho_entries[i];
@@ -378,7 +448,10 @@ class walk_circuit {
     for (const step& g : steps_) {
       emit_layer(layout_, sink, g.coin);
       if (g.copy_history) emit_layer(layout_, sink, g.history);
-      emit_layer(layout_, sink, g.shift);
+      if (g.surface_march)
+        emit_layer(layout_, sink, g.march);
+      else
+        emit_layer(layout_, sink, g.shift);
       emit_layer(layout_, sink, g.sample);
     }
     emit_layer(layout_, sink, path_);

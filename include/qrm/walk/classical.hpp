@@ -29,7 +29,7 @@ inline double path_sum(const walk_model& m, const walk_start& start, unsigned st
     std::map<walk_state, double> next;
     for (const auto& [w, p] : weight) {
       const std::size_t v = m.voxel_of(w.pos);
-      for (const auto& [d, amp] : m.scatter(v, w.dir)) next[{m.shifted(w.pos, d), d}] += p * std::norm(amp);
+      for (const auto& [d, amp] : m.scatter(v, w.dir)) next[{m.moved(w.pos, d), d}] += p * std::norm(amp);
     }
     for (auto& [w, p] : next) {
       const std::size_t v = m.voxel_of(w.pos);
@@ -51,7 +51,7 @@ inline double path_sum_enumerated(const walk_model& m, const walk_start& start, 
       return;
     }
     for (const auto& [d, amp] : m.scatter(m.voxel_of(w.pos), w.dir)) {
-      const walk_state n{m.shifted(w.pos, d), d};
+      const walk_state n{m.moved(w.pos, d), d};
       const std::size_t v = m.voxel_of(n.pos);
       self(self, n, i + 1, prob * std::norm(amp), prefix * m.reflectance(v, channel), f + prefix * m.emission(v, channel));
     }
@@ -88,7 +88,7 @@ inline monte_carlo_estimate monte_carlo(const walk_model& m, const walk_start& s
     for (unsigned i = 0; i < steps; ++i) {
       const auto options = m.scatter(m.voxel_of(w.pos), w.dir);
       const std::uint32_t d = options[pick(options)].first;
-      w = {m.shifted(w.pos, d), d};
+      w = {m.moved(w.pos, d), d};
       const std::size_t v = m.voxel_of(w.pos);
       f += prefix * m.emission(v, channel);
       prefix *= m.reflectance(v, channel);

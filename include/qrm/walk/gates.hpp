@@ -10,6 +10,7 @@
 //   emit(layout, sink)   lowers itself to the primitive ops of circuit/ops.hpp
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -44,6 +45,8 @@ template <std::size_t W>
 using reflectance = qrm::reflectance<W, "rho">;
 template <std::size_t W>
 using history = qrm::history<"hist", W>;
+template <std::size_t W>
+using distance = qrm::distance<"dist", W>;
 template <std::size_t W>
 using direction = qrm::direction<W, "dir">;
 template <std::size_t W>
@@ -166,6 +169,90 @@ struct walk_shift<Dir, detail::type_list<Axes...>> {
       for (std::size_t b = 0; b < dir.size(); ++b) dir_is[b] = {dir[b], ((d >> b) & 1u) != 0};
       for (std::size_t a = 0; a < axes.size(); ++a)
         if ((*displacement)[d][a] != 0) sink.apply_add((*displacement)[d][a], axes[a], dir_is);
+    }
+  }
+};
+
+// One entry of the surface march's lookup: where the walker's voxel index and direction read
+// `select` (voxel index | direction << voxel bits), the march takes `distance` displacements.
+struct march_entry {
+  std::uint64_t select;
+  std::uint64_t distance;
+};
+
+// walk_march<Dir, Axes, Dist>{step, distance_bits, fractional_bits, lookup, displacement}: the
+// bounce-driven move (walk_model's surface march), from a voxel centre to the centre of the
+// next surface voxel, as three permutations:
+//   1. k, the number of displacements, is looked up from (voxel, direction) into slot `step` of
+//      Dist, which is fresh (zero): one multiplexed X per bit of k over the lookup's entries;
+//   2. position += k * displacement: per direction d, bit j of k and axis, add 2^j * d's
+//      displacement where Dir reads d and bit j is set;
+//   3. the sub-voxel bits, now centre + k * displacement mod 2^F, a function of (k, d), are
+//      reset to the centre by a multiplexed X selected by (k, d) (nothing when F = 0).
+// Together they map (centre c, d, 0) to (centre of the surface voxel, d, k).
+template <class Dir, class Axes, class Dist>
+struct walk_march;
+template <class Dir, class... Axes, class Dist>
+struct walk_march<Dir, detail::type_list<Axes...>, Dist> {
+  using registers = detail::type_list<Dir, Axes..., Dist>;
+  static constexpr walk_layer layer = walk_layer::shift;
+
+  std::size_t step = 0;
+  std::size_t distance_bits = 0;
+  std::size_t fractional_bits = 0;
+  std::vector<march_entry> lookup;
+  std::shared_ptr<const std::vector<std::array<std::int64_t, 3>>> displacement;  // per direction
+
+  template <class L, gate_sink S>
+  void emit(const L& l, S& sink) const {
+    if constexpr (L::template contains<Dist>) {
+      const std::span<const control> none;
+      const std::vector<qubit_index> dir = l.template qubits_of<Dir>();
+      const std::array<std::vector<qubit_index>, sizeof...(Axes)> axes{l.template qubits_of<Axes>()...};
+      std::vector<qubit_index> select = detail::voxel_select(l, detail::type_list<Axes...>{}, fractional_bits);
+      const std::size_t dir_shift = select.size();
+      select.insert(select.end(), dir.begin(), dir.end());
+      std::vector<qubit_index> dist(distance_bits);
+      for (std::size_t j = 0; j < distance_bits; ++j) dist[j] = l.template qubit_of<Dist>(step * distance_bits + j);
+      // 1. the lookup; and which (direction, k) pairs occur, so only their adds and resets are emitted.
+      std::vector<std::pair<std::uint64_t, std::uint64_t>> pairs;  // (d, k)
+      std::vector<mux1_entry> entries;
+      for (std::size_t j = 0; j < distance_bits; ++j) {
+        entries.clear();
+        for (const march_entry& e : lookup)
+          if ((e.distance >> j) & 1u) entries.push_back({e.select, gate::x()});
+        if (!entries.empty()) sink.apply_mux1(entries, dist[j], select, none);
+      }
+      for (const march_entry& e : lookup) pairs.push_back({e.select >> dir_shift, e.distance});
+      std::sort(pairs.begin(), pairs.end());
+      pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+      // 2. position += k * displacement, bit by bit of k.
+      std::vector<std::uint64_t> bits_used(displacement->size(), 0);
+      for (const auto& [d, k] : pairs) bits_used[d] |= k;
+      std::vector<control> cs(dir.size() + 1);
+      for (std::size_t d = 0; d < displacement->size(); ++d)
+        for (std::size_t j = 0; j < distance_bits; ++j) {
+          if (!((bits_used[d] >> j) & 1u)) continue;
+          for (std::size_t b = 0; b < dir.size(); ++b) cs[b] = {dir[b], ((d >> b) & 1u) != 0};
+          cs[dir.size()] = {dist[j], true};
+          for (std::size_t a = 0; a < axes.size(); ++a)
+            if ((*displacement)[d][a] != 0) sink.apply_add((*displacement)[d][a] * (std::int64_t{1} << j), axes[a], cs);
+        }
+      // 3. back to the voxel centre: X where (centre + k * displacement) mod 2^F differs from it.
+      if (fractional_bits == 0) return;
+      std::vector<qubit_index> dist_dir = dist;
+      dist_dir.insert(dist_dir.end(), dir.begin(), dir.end());
+      const std::uint64_t unit = std::uint64_t{1} << fractional_bits, half = unit / 2;
+      for (std::size_t a = 0; a < axes.size(); ++a)
+        for (std::size_t b = 0; b < fractional_bits; ++b) {
+          entries.clear();
+          for (const auto& [d, k] : pairs) {
+            const auto moved = static_cast<std::uint64_t>(static_cast<std::int64_t>(half) +
+                                                          static_cast<std::int64_t>(k) * (*displacement)[d][a]);
+            if ((((moved & (unit - 1)) ^ half) >> b) & 1u) entries.push_back({k | (d << distance_bits), gate::x()});
+          }
+          if (!entries.empty()) sink.apply_mux1(entries, axes[a][b], dist_dir, none);
+        }
     }
   }
 };

@@ -3,16 +3,29 @@
 //
 // A walker state is a fixed-point position per axis (P integer bits, F fractional bits; the
 // voxel is the integer part) and a direction index. One step: apply the coin of the current
-// voxel to the direction, move by the direction's displacement (wrapping modulo 2^(P+F) per
-// axis), then sample Le (and, except after the last step, rho) of the voxel reached.
+// voxel to the direction, move, then sample Le (and, except after the last step, rho) of the
+// voxel reached. How the walker moves is the model's march:
+//   voxel    (the paper's Section 4) one displacement, wrapping modulo 2^(P+F) per axis: a step
+//            crosses one voxel, so s steps reach only surfaces within s voxels.
+//   surface  (bounce-driven) the displacement repeated k times, k >= 1 the first count that
+//            lands in a voxel that is not air (or march_limit() if none does), then the walker
+//            is put at that voxel's centre: a step is a bounce, whatever the distance, and
+//            between steps the walker always sits at a voxel centre, so the walk's states are
+//            (voxel, direction) pairs. The circuit keeps k in a fresh distance register
+//            (distance_bits() qubits per step): the move is not injective on positions alone
+//            (parallel rays from different voxels reach the same surface), but from a centre c,
+//            k displacements and the snap land at c + delta(k, d) with delta depending only on
+//            (k, d), so (landing voxel, d, k) determines c and the step stays a permutation.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <complex>
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -40,8 +53,11 @@ struct walk_state {
 class walk_model {
  public:
   // (A constructor template, so that the coin builders are compiled only where a walk is made.)
+  // The march: `march` if given, else the scene's own, else the paper's voxel march.
   template <int = 0>
-  walk_model(scene s_in, direction_set dirs) : scene_(std::make_shared<const scene>(std::move(s_in))), dirs_(std::move(dirs)) {
+  walk_model(scene s_in, direction_set dirs, std::optional<march_mode> march = std::nullopt)
+      : scene_(std::make_shared<const scene>(std::move(s_in))), dirs_(std::move(dirs)) {
+    march_ = march.value_or(scene_->march().value_or(march_mode::voxel));
     const scene& s = *scene_;
     s.validate();
     if (dirs_.dims != s.dims())
@@ -63,6 +79,16 @@ class walk_model {
       }
       coin_of_voxel_[i] = it->second;
     }
+    // The longest march: enough displacements to cross the grid along the slowest direction's
+    // largest component (a march that finds no surface by then stops in air).
+    const std::uint64_t axis_length = std::uint64_t{s.size()} << dirs_.fractional_bits;
+    march_limit_ = 1;
+    for (const auto& d : dirs_.displacement) {
+      std::uint64_t largest = 0;
+      for (unsigned a = 0; a < s.dims(); ++a) largest = std::max<std::uint64_t>(largest, static_cast<std::uint64_t>(std::llabs(d[a])));
+      march_limit_ = std::max(march_limit_, (axis_length + largest - 1) / largest);
+    }
+    distance_bits_ = march_ == march_mode::surface ? static_cast<unsigned>(bits_for(march_limit_ + 1)) : 0;
   }
 
   const scene& scene_data() const { return *scene_; }
@@ -73,6 +99,11 @@ class walk_model {
   unsigned axis_bits() const { return position_bits() + fractional_bits(); }
   unsigned direction_bits() const { return dirs_.bits(); }
   std::size_t direction_count() const { return dirs_.size(); }
+
+  march_mode march() const { return march_; }
+  // Surface march: the most displacements one step takes, and the qubits that count them.
+  std::uint64_t march_limit() const { return march_limit_; }
+  unsigned distance_bits() const { return distance_bits_; }
 
   // Distinct coin matrices and, per voxel, the index of its coin (-1 for air: identity).
   const std::vector<dense_matrix>& coins() const { return coins_; }
@@ -104,6 +135,23 @@ class walk_model {
     std::array<std::uint64_t, 3> p = pos;
     for (unsigned a = 0; a < dims(); ++a) p[a] = (pos[a] + static_cast<std::uint64_t>(dirs_.displacement[d][a])) & wrap;
     return p;
+  }
+
+  // One step's move in direction d: the new position and the number of displacements k (1 in
+  // the voxel march).
+  struct move {
+    std::array<std::uint64_t, 3> pos;
+    std::uint64_t distance;
+  };
+  move moved_by(const std::array<std::uint64_t, 3>& pos, std::uint32_t d) const {
+    std::array<std::uint64_t, 3> p = shifted(pos, d);
+    if (march_ == march_mode::voxel) return {p, 1};
+    std::uint64_t k = 1;
+    for (; k < march_limit_ && (*scene_)[voxel_of(p)].kind == material::air; ++k) p = shifted(p, d);
+    return {centre_of(scene_->coords(voxel_of(p))), k};
+  }
+  std::array<std::uint64_t, 3> moved(const std::array<std::uint64_t, 3>& pos, std::uint32_t d) const {
+    return moved_by(pos, d).pos;
   }
 
   // Where the coin at `voxel_index` sends direction d: (new direction, amplitude) pairs.
@@ -176,7 +224,9 @@ class walk_model {
   dense_matrix make_coin(const voxel& v) const {
     switch (v.kind) {
       case material::lambertian:
-        return dims() == 2 ? lambertian_coin_2d(v.normal_index) : lambertian_coin(dirs_, v.normal);
+        if (dims() == 3) return lambertian_coin(dirs_, v.normal);
+        return scene_->lambertian_coin() == lambertian_2d::symmetric ? lambertian_coin_2d_symmetric(v.normal_index)
+                                                                     : lambertian_coin_2d(v.normal_index);
       case material::boundary: return boundary_coin(dirs_);
       case material::specular: return specular_coin(dirs_, v.normal);
       case material::air: break;
@@ -189,6 +239,9 @@ class walk_model {
   std::vector<dense_matrix> coins_;
   std::vector<material> coin_kinds_;
   std::vector<int> coin_of_voxel_;
+  march_mode march_ = march_mode::voxel;
+  std::uint64_t march_limit_ = 1;
+  unsigned distance_bits_ = 0;
 };
 
 }  // namespace qrm

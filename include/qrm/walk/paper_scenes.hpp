@@ -25,7 +25,7 @@ inline constexpr const char* paper_palette =
 
 // paper_8x8(): the 8x8 scene of the paper's Fig. 4.
 inline scene paper_8x8() {
-  return parse_scene(std::string("qrm-scene 1\nname paper_8x8\ndims 2\nsize 8\n") + detail::paper_palette +
+  return parse_scene(std::string("qrm-scene 1\nname paper_8x8\ndims 2\nsize 8\nmarch voxel\n") + detail::paper_palette +
                          "kinds\n"
                          "B3 L4 L4 L4 L4 L4 L4 B5\n"
                          "L2 .  .  .  .  .  .  L6\n"
@@ -58,7 +58,7 @@ inline scene paper_8x8() {
 
 // paper_4x4(): the paper's small 4x4 scene.
 inline scene paper_4x4() {
-  return parse_scene(std::string("qrm-scene 1\nname paper_4x4\ndims 2\nsize 4\n") + detail::paper_palette +
+  return parse_scene(std::string("qrm-scene 1\nname paper_4x4\ndims 2\nsize 4\nmarch voxel\n") + detail::paper_palette +
                          "kinds\n"
                          "B3 L4 L4 B5\n"
                          "L2 .  .  L6\n"

@@ -29,6 +29,16 @@ constexpr const char* material_name(material m) {
   return "?";
 }
 
+// How a walk moves between steps (walk/model.hpp): the paper's one voxel per step, or one
+// bounce per step (to the next surface). A scene may name the one it was made for.
+enum class march_mode : unsigned char { voxel, surface };
+constexpr const char* march_name(march_mode m) { return m == march_mode::voxel ? "voxel" : "surface"; }
+
+// Which 2D Lambertian coin a scene's Lambertian cells use (walk/coins.hpp): the paper's, whose
+// lobe is one-sided about the normal, or the mirror-symmetric one.
+enum class lambertian_2d : unsigned char { paper, symmetric };
+constexpr const char* lambertian_2d_name(lambertian_2d l) { return l == lambertian_2d::paper ? "paper" : "symmetric"; }
+
 struct rgb {
   double r = 0, g = 0, b = 0;
   double operator[](int c) const { return c == 0 ? r : c == 1 ? g : b; }
@@ -97,6 +107,12 @@ class scene {
   // view(): the scene's own camera, if its file gave one (3D only).
   const std::optional<scene_view>& view() const { return view_; }
   void set_view(const scene_view& v) { view_ = v; }
+  // march(): the march its file asked for ('march voxel|surface'), if any.
+  const std::optional<march_mode>& march() const { return march_; }
+  void set_march(march_mode m) { march_ = m; }
+  // lambertian_coin(): the 2D Lambertian coin its file asked for ('lambertian paper|symmetric').
+  lambertian_2d lambertian_coin() const { return lambertian_; }
+  void set_lambertian_coin(lambertian_2d l) { lambertian_ = l; }
   unsigned position_bits() const { return bits_; }  // P, with N = 2^P
   std::size_t voxel_count() const { return voxels_.size(); }
 
@@ -178,6 +194,8 @@ class scene {
   unsigned dims_ = 2, size_ = 2, bits_ = 1;
   std::vector<voxel> voxels_;
   std::optional<scene_view> view_;
+  std::optional<march_mode> march_;
+  lambertian_2d lambertian_ = lambertian_2d::paper;
 };
 
 }  // namespace qrm

@@ -14,6 +14,12 @@
 //   voxel X Y [Z] KIND [NORMAL] [rho C] [le C]
 //   fill X0 Y0 [Z0] X1 Y1 [Z1] KIND [NORMAL] [rho C] [le C]     (inclusive box)
 //                                 (rho is required for non-air voxels; le defaults to 0)
+//   march voxel|surface           optional: the walk this scene is made for: voxel (the paper's
+//                                 one voxel per step) or surface (one bounce per step); the CLI
+//                                 uses it unless --march says otherwise (default surface)
+//   lambertian paper|symmetric    2D only, optional: the Lambertian coin: the paper's (default;
+//                                 its lobe is one-sided about the normal) or the one symmetric
+//                                 about the normal (a mirror-symmetric room, a symmetric map)
 //   camera position X Y Z look_at X Y Z [up X Y Z] [fov DEGREES]
 //                                 3D only: where the renderer looks from, in voxel units (voxel
 //                                 (x, y, z) fills [x, x+1) x [y, y+1) x [z, z+1)); up defaults
@@ -129,6 +135,19 @@ class scene_parser {
       } else if (key == "voxel" || key == "fill") {
         need_scene(have_scene, key);
         read_voxels(s, t, key == "fill");
+      } else if (key == "march") {
+        need_scene(have_scene, key);
+        if (t.size() != 2 || (t[1] != "voxel" && t[1] != "surface")) fail("expected 'march voxel' or 'march surface'");
+        if (s.march()) fail("'march' given twice");
+        s.set_march(t[1] == "voxel" ? march_mode::voxel : march_mode::surface);
+      } else if (key == "lambertian") {
+        need_scene(have_scene, key);
+        if (dims != 2) fail("'lambertian' chooses the 2D Lambertian coin; 3D coins have one form");
+        if (t.size() != 2 || (t[1] != "paper" && t[1] != "symmetric"))
+          fail("expected 'lambertian paper' or 'lambertian symmetric'");
+        if (seen_lambertian_) fail("'lambertian' given twice");
+        seen_lambertian_ = true;
+        s.set_lambertian_coin(t[1] == "paper" ? lambertian_2d::paper : lambertian_2d::symmetric);
       } else if (key == "camera") {
         need_scene(have_scene, key);
         if (dims != 3) fail("'camera' is for 3D scenes (a 2D scene is a light map, not seen through a camera)");
@@ -354,6 +373,7 @@ class scene_parser {
   std::vector<std::vector<std::string>> lines_;
   std::size_t row_ = 0;
   std::map<std::string, rgb> colors_;
+  bool seen_lambertian_ = false;
 };
 
 template <int = 0>
@@ -411,6 +431,8 @@ inline std::string format_scene(const scene& s) {
     out += " le " + format_double(v.emission.r) + " " + format_double(v.emission.g) + " " + format_double(v.emission.b);
     out += "\n";
   }
+  if (const auto& m = s.march()) out += std::string("march ") + march_name(*m) + "\n";
+  if (s.lambertian_coin() != lambertian_2d::paper) out += std::string("lambertian ") + lambertian_2d_name(s.lambertian_coin()) + "\n";
   if (const auto& v = s.view()) {
     auto triple = [](const vec3& a) { return format_double(a[0]) + " " + format_double(a[1]) + " " + format_double(a[2]); };
     out += "camera position " + triple(v->position) + " look_at " + triple(v->look_at) + " up " + triple(v->up) +
