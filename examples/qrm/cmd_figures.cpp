@@ -194,7 +194,11 @@ int cmd_figures(args& a) {
              std::to_string(r.distinct_starts) + " starts), FAE statistics from its P(out = 1): " +
              fmt(r.seconds.at("quantum"), "%.1f") + " s; exact P(out = 1) inside the FAE interval for " +
              std::to_string(r.inside_interval) + " of " + std::to_string(r.start_channels) +
-             " start-channels; RMSE vs the exact image " + fmt(r.rmse_vs_exact.at("quantum")) +
+             " start-channels; circuits of " + fmt(r.qubits_mean, "%.1f") + " qubits on average (at most " +
+             std::to_string(r.qubits_max) + "), final states of " + fmt(r.nonzeros_mean, "%.3g") +
+             " nonzero amplitudes on average (at most " + std::to_string(r.nonzeros_max) + "), " +
+             fmt(1e3 * r.seconds_per_start, "%.3g") + " ms per start-channel to build and simulate; RMSE vs the exact image " +
+             fmt(r.rmse_vs_exact.at("quantum")) +
              "; largest relative difference between the faithful walk and the classical path sum (interference) " +
              fmt(100 * r.max_interference, "%.2g") + "%.");
     log.line("");

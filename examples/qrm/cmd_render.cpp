@@ -68,7 +68,9 @@ int cmd_render(args& a) {
     summary.add("kind", "images").add("seconds", seconds).add("rmse_vs_exact", rmse);
     if (wants(s, "quantum"))
       summary.add("distinct_starts", r.distinct_starts).add("start_channels", r.start_channels)
-          .add("exact_inside_interval", r.inside_interval).add("max_relative_interference", r.max_interference);
+          .add("exact_inside_interval", r.inside_interval).add("max_relative_interference", r.max_interference)
+          .add("qubits_mean", r.qubits_mean).add("qubits_max", r.qubits_max).add("nonzeros_mean", r.nonzeros_mean)
+          .add("nonzeros_max", r.nonzeros_max).add("simulate_seconds_per_start", r.seconds_per_start);
     summary.add("settings", settings_json(s, sc, s.effective_steps(3)));
   }
   const std::string text = summary.str();

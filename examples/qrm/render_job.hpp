@@ -356,6 +356,10 @@ struct image3d_summary {
   // classical path sum (interference, as in the 2D light map).
   std::size_t start_channels = 0, inside_interval = 0;
   double max_interference = 0;
+  // Per simulated (start, channel): the circuit's qubits, the final state's nonzero amplitudes,
+  // the seconds to build and simulate it once.
+  std::size_t qubits_max = 0, nonzeros_max = 0;
+  double qubits_mean = 0, nonzeros_mean = 0, seconds_per_start = 0;
   std::vector<std::string> written;
 };
 
@@ -422,6 +426,17 @@ inline image3d_summary render_images_3d(const render_settings& s, const qrm::sce
         ++out.start_channels;
         out.inside_interval += e.exact >= e.interval[0] && e.exact <= e.interval[1];
         if (e.classical > 0) out.max_interference = std::max(out.max_interference, std::abs(e.exact - e.classical) / e.classical);
+        out.qubits_max = std::max(out.qubits_max, e.qubits);
+        out.nonzeros_max = std::max(out.nonzeros_max, e.nonzeros);
+        out.qubits_mean += static_cast<double>(e.qubits);
+        out.nonzeros_mean += static_cast<double>(e.nonzeros);
+        out.seconds_per_start += e.simulate_seconds;
+      }
+      if (out.start_channels) {
+        const double n = static_cast<double>(out.start_channels);
+        out.qubits_mean /= n;
+        out.nonzeros_mean /= n;
+        out.seconds_per_start /= n;
       }
       write_image(s, base + "_quantum_exact", qi.exact, out.written);
       bases.push_back(base + "_quantum_exact");

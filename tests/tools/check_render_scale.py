@@ -16,6 +16,9 @@
    (along one of the 8 walk directions) is lit; the same room with the paper's coin is not
    symmetric (so the check can fail).
 4. --march voxel runs the paper's walk (summary: march voxel, 15 directions, 3 sub-voxel bits).
+5. Black stays black: in a 16^3 render with exact, emulated and fully quantum images, every pixel
+   channel whose exact value is 0 is exactly 0 in the emulated and the quantum image (no
+   estimator floor), and the others are not all 0.
 """
 import array
 import csv
@@ -187,6 +190,23 @@ def check_voxel_march(qrm, work, failures):
         failures.append("--march voxel settings: %s" % st)
 
 
+def check_black_stays_black(qrm, work, failures):
+    out = os.path.join(work, "black")
+    run(qrm, ["--scene", "cornell", "--voxels", "16", "--width", "32", "--height", "32", "--method",
+              "exact,emulated,quantum", "--paths", "16", "--seed", "2"], out)
+    _, _, exact = read_pfm(os.path.join(out, "cornell_box_16_exact.pfm"))
+    zeros = [i for i, v in enumerate(exact) if v == 0]
+    for method in ("emulated", "quantum"):
+        _, _, img = read_pfm(os.path.join(out, "cornell_box_16_%s.pfm" % method))
+        bad = [i for i in zeros if img[i] != 0]
+        lit = sum(1 for i, v in enumerate(exact) if v > 0 and img[i] > 0)
+        print("black stays black, %s: %d of %d zero pixel-channels are 0 (%d lit ones lit)"
+              % (method, len(zeros) - len(bad), len(zeros), lit))
+        if bad or not zeros or lit == 0:
+            failures.append("%s: %d of %d zero pixel-channels are not 0 (first values %s)"
+                            % (method, len(bad), len(zeros), [img[i] for i in bad[:4]]))
+
+
 def main():
     qrm, scenes, work = sys.argv[1:4]
     work = os.path.join(work, "render_scale")
@@ -196,6 +216,7 @@ def main():
     check_mc_slope(qrm, work, failures)
     check_symmetric_room(qrm, scenes, work, failures)
     check_voxel_march(qrm, work, failures)
+    check_black_stays_black(qrm, work, failures)
     if failures:
         sys.exit("\n".join(failures))
     print("render at scale: as promised")

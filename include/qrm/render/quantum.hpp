@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -66,6 +67,10 @@ struct quantum_estimate {
   double radiance_scale = 1;  // S * emission scale: radiance = value * radiance_scale
   std::uint64_t a_calls = 0, grover_calls = 0;
   std::string warning;
+  // The simulation of the walk circuit: its qubits after pruning, the final state's nonzero
+  // amplitudes (compact backend), and the seconds it took (building and running A once).
+  std::size_t qubits = 0, nonzeros = 0;
+  double simulate_seconds = 0;
 };
 
 namespace detail {
@@ -77,6 +82,7 @@ quantum_estimate estimate_walk(const walk_model& m, const walk_start& start, int
   walk_options wo;
   wo.steps = o.steps;
   wo.channel = channel;
+  const auto t0 = std::chrono::steady_clock::now();
   const walk_program w = make_walk_program(m, start, wo);
   quantum_estimate q;
   q.channel = channel;
@@ -95,7 +101,11 @@ quantum_estimate estimate_walk(const walk_model& m, const walk_start& start, int
     q.grover_calls = r.grover_calls;
     q.warning = r.warning;
   };
-  q.exact = walk_probability<F>(w);
+  const walk_run run = walk_run_of<F>(w);
+  q.exact = run.probability;
+  q.qubits = w.circuit.width();
+  q.nonzeros = run.nonzeros;
+  q.simulate_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (o.grover == grover_mode::simulated) {
     with_simulated_oracle<F>(problem, finish);  // real for the 2D circuits; 3D coins may be complex
   } else {

@@ -37,14 +37,27 @@ struct lightmap_options {
 // walk_probability<F>(w): P(out = 1) of the walk program w run on backend family F (backend.hpp):
 // real amplitudes when every gate is real, one thread per state (cells already run in parallel).
 // The compact backend is far faster for walk circuits, whose support is a tiny fraction of 2^width.
+// walk_run_of<F>(w) also says how many amplitudes the final state holds (backends that count
+// them, as the compact one; 0 otherwise).
+struct walk_run {
+  double probability = 0;
+  std::size_t nonzeros = 0;
+};
 template <backend_family F>
-double walk_probability(const walk_program& w) {
+walk_run walk_run_of(const walk_program& w) {
   return F::visit(w.circuit.width(), w.circuit.is_real(), [&](auto type) {
     using B = typename decltype(type)::type;
     static_assert(backend<B>, "backend_family: visit must pass a qrm::backend");
     B s = F::template make<B>(w.circuit.width());
-    return probability_out(s, w);
+    walk_run r;
+    r.probability = probability_out(s, w);
+    if constexpr (requires { s.nonzeros(); }) r.nonzeros = s.nonzeros();
+    return r;
   });
+}
+template <backend_family F>
+double walk_probability(const walk_program& w) {
+  return walk_run_of<F>(w).probability;
 }
 
 // exact_lightmap<F>(model, options): every cell (x, y[, z]) and channel, in the order y, x, channel
