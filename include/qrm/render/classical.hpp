@@ -225,7 +225,7 @@ class radiance_table {
   static bool applies(const walk_model& m) { return m.march() == march_mode::surface || m.fractional_bits() == 0; }
 
   radiance_table(const qrm::detail::transition_table& t, unsigned steps, unsigned threads = 0)
-      : model_(&t.model()), d_(t.model().direction_count()) {
+      : d_(t.model().direction_count()) {
     const walk_model& m = t.model();
     if (!applies(m))
       throw std::invalid_argument("radiance_table: the walker leaves voxel centres (voxel march with sub-voxel bits)");
@@ -282,7 +282,6 @@ class radiance_table {
     slot_[v] = voxels_.size();
     voxels_.push_back(v);
   }
-  const walk_model* model_;
   std::size_t d_;
   std::vector<std::size_t> slot_;       // per scene voxel: its index in voxels_, or none
   std::vector<std::size_t> voxels_;     // table voxels
