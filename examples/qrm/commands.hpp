@@ -50,6 +50,7 @@ int cmd_figures(args&);
 int cmd_scaling(args&);
 int cmd_resources(args&);
 int cmd_crossover(args&);
+int cmd_simulate(args&);
 
 // The crossover study (cmd_crossover.cpp; qrm figures runs it too): writes crossover.csv,
 // crossover.md and crossover.svg into `out`.
@@ -84,5 +85,6 @@ flag_table figures_flags();
 flag_table scaling_flags();
 flag_table resources_flags();
 flag_table crossover_flags();
+flag_table simulate_flags();
 
 }  // namespace qrm_cli

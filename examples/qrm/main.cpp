@@ -39,6 +39,9 @@ const command commands[] = {
      "qrm resources --scene paper_8x8 --x 3 --y 4 --preset ion --format text", resources_flags, cmd_resources},
     {"crossover", "at what error fault-tolerant amplitude estimation would beat Monte Carlo on this CPU",
      "qrm crossover --scene paper_8x8 --x 3 --y 4 --out crossover", crossover_flags, cmd_crossover},
+    {"simulate", "run a circuit (OpenQASM 3 or a random suite) on the dense backend, fused or not, and time it",
+     "qrm simulate --random 24 --gates 300 --scalar complex-float --threads 1 --compare", simulate_flags,
+     cmd_simulate},
     {"version", "print the version", "qrm version", no_flags, cmd_version},
 };
 

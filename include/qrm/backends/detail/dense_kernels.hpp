@@ -21,6 +21,7 @@
 
 #include "../../circuit/ops.hpp"
 #include "bits.hpp"
+#include "dense_batched.hpp"
 #include "scalar.hpp"
 #include "../../support/detail/thread_pool.hpp"
 
@@ -67,19 +68,24 @@ inline void runs_in_range(const subspace& s, std::uint64_t k0, std::uint64_t k1,
   }
 }
 
-// Calls f(first_index, length) over all of s, in parallel chunks when worth it; `work` is the
-// number of amplitudes touched per member.
-template <class F>
-void for_each_run(const subspace& s, const exec_policy& ex, std::uint64_t work, F&& f) {
+// Calls g(k0, k1) for ranges of members covering all of s, in parallel chunks when worth it;
+// `work` is the number of amplitudes touched per member.
+template <class G>
+void for_each_chunk(const subspace& s, const exec_policy& ex, std::uint64_t work, G&& g) {
   const std::uint64_t count = s.count();
   if (ex.threads <= 1 || count <= chunk_members || count * work < ex.min_parallel) {
-    runs_in_range(s, 0, count, f);
+    g(std::uint64_t{0}, count);
     return;
   }
   const std::uint64_t chunks = count / chunk_members;
-  shared_pool().parallel_for(static_cast<std::size_t>(chunks), ex.threads, [&](std::size_t i) {
-    runs_in_range(s, i * chunk_members, (i + 1) * chunk_members, f);
-  });
+  shared_pool().parallel_for(static_cast<std::size_t>(chunks), ex.threads,
+                             [&](std::size_t i) { g(i * chunk_members, (i + 1) * chunk_members); });
+}
+
+// Calls f(first_index, length) for contiguous runs covering all of s (for_each_chunk's chunks).
+template <class F>
+void for_each_run(const subspace& s, const exec_policy& ex, std::uint64_t work, F&& f) {
+  for_each_chunk(s, ex, work, [&](std::uint64_t k0, std::uint64_t k1) { runs_in_range(s, k0, k1, f); });
 }
 
 // Hint that a[i] will be written soon. The address is formed as an integer because it may lie
@@ -353,12 +359,49 @@ inline std::vector<std::uint64_t> target_offsets(std::span<const qubit_index> ta
   return off;
 }
 
+inline csr_matrix to_csr(const dense_matrix& m) {
+  csr_matrix r;
+  r.dim = m.dim;
+  r.real = m.is_real();
+  r.row_start.push_back(0);
+  for (std::size_t row = 0; row < m.dim; ++row) {
+    for (std::size_t c = 0; c < m.dim; ++c) {
+      const complex v = m(row, c);
+      if (v == complex{}) continue;
+      r.col.push_back(static_cast<std::uint32_t>(c));
+      r.re.push_back(v.real());
+      r.im.push_back(v.imag());
+    }
+    r.row_start.push_back(static_cast<std::uint32_t>(r.col.size()));
+  }
+  return r;
+}
+
 template <class S>
 void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qubit_index> targets,
                     std::uint64_t tmask, std::uint64_t cmask, std::uint64_t cvalue, const exec_policy& ex) {
-  const sparse_rows<S> rows(m);
   const auto offsets = target_offsets(targets);
   const subspace s(n, cmask | tmask, cvalue);
+  if constexpr (scalar_traits<S>::is_complex) {
+    if (m.dim <= vector_kernel_max_dim) {
+      const csr_matrix rows = to_csr(m);
+      csr_job<S> job{&rows, offsets.data(), a};
+      // Dense enough (a quarter of the entries non-zero): every entry, unrolled, beats the
+      // row lists' indirection.
+      std::vector<double> re, im;
+      if (rows.col.size() * 4 >= m.dim * m.dim && m.dim <= 16) {
+        for (const complex& z : m.data) {
+          re.push_back(z.real());
+          im.push_back(z.imag());
+        }
+        job.dense_re = re.data();
+        job.dense_im = im.data();
+      }
+      for_each_chunk(s, ex, m.dim, [&](std::uint64_t k0, std::uint64_t k1) { csr_range(job, s, k0, k1); });
+      return;
+    }
+  }
+  const sparse_rows<S> rows(m);
   for_each_run(s, ex, m.dim, unitary_applier<S>{rows, offsets, a});
 }
 

@@ -1,0 +1,199 @@
+// examples/qrm/cmd_simulate.cpp: `qrm simulate`, a general circuit (an OpenQASM 3 file or a
+// random gate suite) on the dense backend, with or without gate fusion, timed.
+#include <algorithm>
+#include <chrono>
+#include <cinttypes>
+#include <complex>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <qrm/backends/dense.hpp>
+#include <qrm/circuit/fuse.hpp>
+#include <qrm/circuit/qasm.hpp>
+#include <qrm/support/random.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "json.hpp"
+
+namespace qrm_cli {
+
+namespace {
+
+// The random suite: H, Ry, CX, CCX and C^4 X on distinct random qubits, uniformly mixed.
+qrm::program random_suite(std::size_t n, std::size_t gates, std::uint64_t seed) {
+  qrm::rng g(seed);
+  qrm::program p(n);
+  std::vector<qrm::qubit_index> q(n);
+  for (std::size_t i = 0; i < gates; ++i) {
+    for (std::size_t j = 0; j < n; ++j) q[j] = static_cast<qrm::qubit_index>(j);
+    for (std::size_t j = 0; j < 5 && j < n; ++j) std::swap(q[j], q[j + g.below(n - j)]);
+    const std::uint64_t kind = g.below(5);
+    const std::size_t controls = kind == 2 ? 1 : kind == 3 ? 2 : kind == 4 ? 4 : 0;
+    if (controls + 1 > n) continue;
+    std::vector<qrm::control> cs;
+    for (std::size_t c = 0; c < controls; ++c) cs.push_back({q[1 + c], true});
+    const qrm::gate1 gate = kind == 0 ? qrm::gate::h() : kind == 1 ? qrm::gate::ry(6.283185307179586 * g.uniform())
+                                                                   : qrm::gate::x();
+    p.apply_gate1(gate, q[0], cs);
+  }
+  return p;
+}
+
+qrm::program read_qasm(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw usage_error("--qasm: cannot read '" + path + "'");
+  std::ostringstream text;
+  text << f.rdbuf();
+  try {
+    return qrm::from_qasm(text.str());
+  } catch (const std::exception& e) {
+    throw usage_error("--qasm " + path + ": " + e.what());
+  }
+}
+
+struct timed_run {
+  std::vector<double> seconds;  // one per repetition
+  std::vector<std::complex<double>> state;
+  double norm = 0;
+};
+
+template <class S>
+timed_run run_timed(const qrm::program& p, unsigned threads, unsigned repeat) {
+  qrm::dense_options o;
+  o.threads = threads;
+  qrm::state_vector<S> s(p.width(), o);
+  timed_run r;
+  for (unsigned i = 0; i < repeat; ++i) {
+    s.set_basis_state(0);
+    const auto t0 = std::chrono::steady_clock::now();
+    qrm::run(s, p);
+    r.seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  r.norm = s.norm_squared();
+  const auto a = s.amplitudes();
+  r.state.assign(a.begin(), a.end());
+  return r;
+}
+
+timed_run run_scalar(const std::string& scalar, const qrm::program& p, unsigned threads, unsigned repeat) {
+  if (scalar == "complex-double") return run_timed<std::complex<double>>(p, threads, repeat);
+  if (scalar == "complex-float") return run_timed<std::complex<float>>(p, threads, repeat);
+  if (scalar == "double") return run_timed<double>(p, threads, repeat);
+  return run_timed<float>(p, threads, repeat);
+}
+
+double fastest(const timed_run& r) { return *std::min_element(r.seconds.begin(), r.seconds.end()); }
+
+}  // namespace
+
+flag_table simulate_flags() {
+  const char* in = "circuit (one of)";
+  const char* run = "simulation";
+  const char* out = "output";
+  return {
+      {"qasm", "FILE", "", "an OpenQASM 3 file (e.g. from qrm circuit --qasm F --decomposed)", in},
+      {"random", "N", "", "a random suite on N qubits: H, Ry, CX, CCX, C^4 X, uniformly mixed", in},
+      {"gates", "G", "300", "with --random: the number of gates", in},
+      {"seed", "S", "1", "with --random: the seed", in},
+      {"scalar", "complex-double|complex-float|double|float", "complex-double",
+       "amplitude type (real types need a circuit of real gates)", run},
+      {"fuse", "K|off", "3", "multiply runs of gates on at most K qubits (1..6) into one matrix", run},
+      {"threads", "T", "0", "threads (0: every core)", run},
+      {"repeat", "R", "3", "runs of the circuit; the fastest is reported", run},
+      {"compare", "", "", "also run without fusion: both times and the largest amplitude difference", run},
+      {"format", "json|text", "json", "output on stdout", out},
+  };
+}
+
+int cmd_simulate(args& a) {
+  a.allow(simulate_flags());
+  if (a.has("qasm") == a.has("random")) throw usage_error("give exactly one of --qasm FILE and --random N");
+  if (!a.has("random") && (a.has("gates") || a.has("seed")))
+    throw usage_error(std::string("--") + (a.has("gates") ? "gates" : "seed") + " applies to --random N");
+  const std::string scalar = a.str("scalar", "complex-double");
+  if (scalar != "complex-double" && scalar != "complex-float" && scalar != "double" && scalar != "float")
+    throw usage_error("--scalar must be complex-double, complex-float, double or float, got '" + scalar + "'");
+  const std::string fuse_arg = a.str("fuse", "3");
+  unsigned fuse_width = 0;
+  if (fuse_arg != "off") fuse_width = static_cast<unsigned>(a.integer("fuse", 3, 1, 6));
+  const auto threads = static_cast<unsigned>(a.integer("threads", 0, 0, 1024));
+  const auto repeat = static_cast<unsigned>(a.integer("repeat", 3, 1, 1000));
+  const bool compare = a.flag("compare");
+  const std::string format = a.str("format", "json");
+  if (format != "json" && format != "text") throw usage_error("--format must be json or text, got '" + format + "'");
+  if (compare && fuse_width == 0) throw usage_error("--compare compares fused with unfused; it needs --fuse K, not off");
+
+  std::string source;
+  qrm::program p;
+  if (a.has("qasm")) {
+    source = a.str("qasm", "");
+    p = read_qasm(source);
+  } else {
+    const auto n = static_cast<std::size_t>(a.integer("random", 20, 2, 40));
+    const auto gates = static_cast<std::size_t>(a.integer("gates", 300, 1, 100000000));
+    const auto seed = static_cast<std::uint64_t>(a.integer("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
+    source = "random suite, " + std::to_string(n) + " qubits, " + std::to_string(gates) + " gates, seed " +
+             std::to_string(seed);
+    p = random_suite(n, gates, seed);
+  }
+  if ((scalar == "double" || scalar == "float") && !p.is_real())
+    throw usage_error("--scalar " + scalar + " stores real amplitudes, but " +
+                      (a.has("qasm") ? "'" + source + "'" : std::string("the circuit")) +
+                      " has complex gates; use complex-double or complex-float");
+  if (p.width() > 34)
+    throw usage_error("the circuit has " + std::to_string(p.width()) +
+                      " qubits; qrm simulate runs the dense backend, which this tool limits to 34");
+
+  const unsigned used_threads = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
+  qrm::fusion_report rep;
+  double fuse_seconds = 0;
+  qrm::program fused;
+  if (fuse_width) {
+    const auto t0 = std::chrono::steady_clock::now();
+    fused = qrm::fuse(p, {fuse_width}, &rep);
+    fuse_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  const timed_run main_run = run_scalar(scalar, fuse_width ? fused : p, used_threads, repeat);
+  timed_run plain;
+  double difference = 0;
+  if (compare) {
+    plain = run_scalar(scalar, p, used_threads, repeat);
+    for (std::size_t i = 0; i < plain.state.size(); ++i)
+      difference = std::max(difference, std::abs(plain.state[i] - main_run.state[i]));
+  }
+
+  if (format == "text") {
+    std::printf("circuit   %s: %zu qubits, %zu ops\n", source.c_str(), p.width(), p.size());
+    if (fuse_width)
+      std::printf("fused     %zu ops (%zu blocks of up to %u qubits) in %.3g s\n", rep.ops_out, rep.fused_blocks,
+                  fuse_width, fuse_seconds);
+    std::printf("run       %s, %u thread(s): %.6g s (fastest of %u)\n", scalar.c_str(), used_threads, fastest(main_run),
+                repeat);
+    if (compare)
+      std::printf("unfused   %.6g s: fused takes %.3gx the unfused time; largest |difference| %.3g\n", fastest(plain),
+                  fastest(main_run) / fastest(plain), difference);
+    std::printf("norm      %.17g\n", main_run.norm);
+    return 0;
+  }
+  json_object j;
+  j.add("circuit", source).add("qubits", p.width()).add("ops", p.size()).add("scalar", scalar);
+  j.add("threads", used_threads).add("repeat", repeat);
+  if (fuse_width) {
+    j.add("fuse", fuse_width).add("fused_ops", rep.ops_out).add("fused_blocks", rep.fused_blocks);
+    j.add("blocks_by_width", json_array::of(rep.blocks_by_width)).add("fuse_seconds", fuse_seconds);
+  } else {
+    j.add("fuse", "off");
+  }
+  j.add("seconds", fastest(main_run)).add("seconds_each", json_array::of(main_run.seconds)).add("norm", main_run.norm);
+  if (compare) {
+    j.add("unfused_seconds", fastest(plain)).add("unfused_seconds_each", json_array::of(plain.seconds));
+    j.add("fused_over_unfused", fastest(main_run) / fastest(plain)).add("max_abs_difference", difference);
+  }
+  std::printf("%s\n", j.str().c_str());
+  return 0;
+}
+
+}  // namespace qrm_cli

@@ -1,0 +1,224 @@
+// qrm/circuit/fuse.hpp: gate fusion, a pass over programs that any backend can run.
+//
+// A circuit of small gates (the decomposed walk hardware would run, an imported QASM file, a
+// noisy trajectory) costs a dense simulator one pass over the whole state per gate. fuse(p)
+// multiplies runs of gates that together touch at most `max_qubits` qubits into one dense
+// unitary op, so the backend makes one pass where it made many; the state is the same up to
+// rounding (tests/test_fuse.cpp holds fused to unfused within 1e-12 for complex<double>).
+//
+// The rule (greedy, in program order): every qubit belongs to at most one open block. An op
+// joins the blocks that share a qubit with it when their union with the op has at most
+// `max_qubits` qubits; otherwise those blocks are closed (written to the output) and the op
+// opens a new block. Open blocks act on disjoint qubits, so they commute with each other and
+// closing one early never reorders two ops that share a qubit. Controls count as qubits of the
+// block (a CNOT is a 2-qubit block). Ops that cannot join (adds and multiplexed ops, whose
+// kernels use their structure, and gates wider than `max_qubits`) close the blocks they touch
+// and pass through unchanged. A block holding a single op is written unchanged (its kernel may
+// be cheaper than a dense matrix's: X is a swap, a controlled gate visits only its subspace);
+// a block of single-qubit gates on one qubit becomes one gate1.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ops.hpp"
+#include "program.hpp"
+
+namespace qrm {
+
+struct fusion_options {
+  unsigned max_qubits = 3;  // widest fused block, 1..6; 3 measured fastest (bench/RESULTS.md)
+};
+
+// What fuse() did.
+struct fusion_report {
+  std::size_t ops_in = 0, ops_out = 0;
+  std::size_t fused_blocks = 0;  // ops written as a product of two or more ops
+  std::size_t passed_through = 0;  // ops that could not join a block
+  std::vector<std::size_t> blocks_by_width;  // [k]: fused blocks on k qubits
+};
+
+namespace detail {
+
+// The ops of one open block and the qubits they touch.
+struct fusion_block {
+  std::vector<std::size_t> ops;  // indices into the input program, in program order
+  std::vector<qubit_index> qubits;
+};
+
+// Local index of each block qubit: bit j of a matrix index is qubits[j] (sorted ascending).
+inline unsigned local_bit(const std::vector<qubit_index>& qubits, qubit_index q) {
+  return static_cast<unsigned>(std::lower_bound(qubits.begin(), qubits.end(), q) - qubits.begin());
+}
+
+// Applies a gate1 op (with its controls) to every column of m, in the block's local bits.
+inline void fold_gate1(dense_matrix& m, const op::gate1_op& o, const std::vector<qubit_index>& qubits) {
+  const std::size_t dim = m.dim;
+  const std::size_t t = std::size_t{1} << local_bit(qubits, o.target);
+  std::size_t cmask = 0, cvalue = 0;
+  for (const control& c : o.controls) {
+    const std::size_t b = std::size_t{1} << local_bit(qubits, c.qubit);
+    cmask |= b;
+    if (c.value) cvalue |= b;
+  }
+  const gate1& g = o.gate;
+  for (std::size_t i = 0; i < dim; ++i) {
+    if ((i & t) || (i & cmask) != cvalue) continue;
+    for (std::size_t col = 0; col < dim; ++col) {
+      const complex x = m(i, col), y = m(i | t, col);
+      m(i, col) = g.m[0][0] * x + g.m[0][1] * y;
+      m(i | t, col) = g.m[1][0] * x + g.m[1][1] * y;
+    }
+  }
+}
+
+// Applies a unitary op (with its controls) to every column of m, in the block's local bits.
+inline void fold_unitary(dense_matrix& m, const op::unitary_op& o, const std::vector<qubit_index>& qubits) {
+  const std::size_t dim = m.dim, sub = o.matrix.dim;
+  std::vector<std::size_t> offset(sub, 0);
+  std::size_t tmask = 0, cmask = 0, cvalue = 0;
+  for (std::size_t j = 0; j < o.targets.size(); ++j) {
+    const std::size_t b = std::size_t{1} << local_bit(qubits, o.targets[j]);
+    tmask |= b;
+    for (std::size_t r = 0; r < sub; ++r)
+      if ((r >> j) & 1u) offset[r] |= b;
+  }
+  for (const control& c : o.controls) {
+    const std::size_t b = std::size_t{1} << local_bit(qubits, c.qubit);
+    cmask |= b;
+    if (c.value) cvalue |= b;
+  }
+  std::vector<complex> in(sub);
+  for (std::size_t base = 0; base < dim; ++base) {
+    if ((base & tmask) || (base & cmask) != cvalue) continue;
+    for (std::size_t col = 0; col < dim; ++col) {
+      for (std::size_t r = 0; r < sub; ++r) in[r] = m(base | offset[r], col);
+      for (std::size_t r = 0; r < sub; ++r) {
+        complex acc{};
+        for (std::size_t c = 0; c < sub; ++c) acc += o.matrix(r, c) * in[c];
+        m(base | offset[r], col) = acc;
+      }
+    }
+  }
+}
+
+// Qubits of a fusable op (gate1 or unitary, controls included), or empty when it cannot join.
+inline std::vector<qubit_index> fusable_qubits(const op::any& o) {
+  if (o.index() != 0 && o.index() != 1) return {};
+  std::vector<qubit_index> q = op_qubits(o);
+  std::sort(q.begin(), q.end());
+  return q;
+}
+
+}  // namespace detail
+
+// fuse(p, options, report): p with runs of small gates multiplied into dense unitary ops on at
+// most options.max_qubits qubits (see the top of this header).
+template <int = 0>
+program fuse(const program& p, fusion_options options = {}, fusion_report* report = nullptr) {
+  if (options.max_qubits < 1 || options.max_qubits > 6)
+    throw std::invalid_argument("fuse: max_qubits must be 1..6, got " + std::to_string(options.max_qubits));
+  const std::size_t k = options.max_qubits;
+  program out(p.width());
+  out.set_registers(p.registers());
+  fusion_report rep;
+  rep.ops_in = p.size();
+  rep.blocks_by_width.assign(k + 1, 0);
+
+  std::vector<detail::fusion_block> blocks;     // open and closed; closed ones are cleared
+  std::vector<std::size_t> owner(p.width(), 0);  // block index + 1 of each qubit, 0: none
+
+  auto write_op = [&](std::size_t i) {
+    out.enter_layer(p.layer_of(i));
+    out.push(p.ops()[i]);
+  };
+  auto close = [&](std::size_t b) {
+    detail::fusion_block& blk = blocks[b];
+    for (qubit_index q : blk.qubits) owner[q] = 0;
+    if (blk.ops.size() == 1) {
+      write_op(blk.ops[0]);
+    } else {
+      std::sort(blk.qubits.begin(), blk.qubits.end());
+      dense_matrix m = dense_matrix::identity(std::size_t{1} << blk.qubits.size());
+      for (std::size_t i : blk.ops) {
+        const op::any& o = p.ops()[i];
+        if (o.index() == 0)
+          detail::fold_gate1(m, *std::get_if<op::gate1_op>(&o), blk.qubits);
+        else
+          detail::fold_unitary(m, *std::get_if<op::unitary_op>(&o), blk.qubits);
+      }
+      out.enter_layer(p.layer_of(blk.ops[0]));
+      if (blk.qubits.size() == 1)
+        out.push(op::gate1_op{gate::u(m(0, 0), m(0, 1), m(1, 0), m(1, 1)), blk.qubits[0], {}});
+      else
+        out.push(op::unitary_op{std::move(m), blk.qubits, {}});
+      ++rep.fused_blocks;
+      ++rep.blocks_by_width[blk.qubits.size()];
+    }
+    blk = {};
+  };
+
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const op::any& o = p.ops()[i];
+    const std::vector<qubit_index> q = detail::fusable_qubits(o);
+    // Blocks the op touches (each once) and the size of their union with the op.
+    std::vector<std::size_t> touched;
+    std::size_t width = 0;
+    const std::vector<qubit_index> all = q.empty() ? op_qubits(o) : q;
+    for (qubit_index x : all) {
+      if (owner[x] == 0) {
+        ++width;
+        continue;
+      }
+      const std::size_t b = owner[x] - 1;
+      if (std::find(touched.begin(), touched.end(), b) == touched.end()) {
+        touched.push_back(b);
+        width += blocks[b].qubits.size();
+      }
+    }
+    if (q.empty() || q.size() > k) {  // cannot join: close what it touches, pass it through
+      for (std::size_t b : touched) close(b);
+      write_op(i);
+      ++rep.passed_through;
+      continue;
+    }
+    std::size_t into;
+    if (width <= k && !touched.empty()) {  // merge the touched blocks into the first one
+      into = touched[0];
+      for (std::size_t t = 1; t < touched.size(); ++t) {
+        detail::fusion_block& other = blocks[touched[t]];
+        for (qubit_index x : other.qubits) owner[x] = into + 1;
+        blocks[into].qubits.insert(blocks[into].qubits.end(), other.qubits.begin(), other.qubits.end());
+        blocks[into].ops.insert(blocks[into].ops.end(), other.ops.begin(), other.ops.end());
+        other = {};
+      }
+      // Ops of merged blocks act on disjoint qubits, so any interleaving of them is the same
+      // product; program order keeps the output readable.
+      std::sort(blocks[into].ops.begin(), blocks[into].ops.end());
+    } else {
+      for (std::size_t b : touched) close(b);
+      into = blocks.size();
+      blocks.emplace_back();
+    }
+    detail::fusion_block& blk = blocks[into];
+    blk.ops.push_back(i);
+    for (qubit_index x : q)
+      if (owner[x] == 0) {
+        owner[x] = into + 1;
+        blk.qubits.push_back(x);
+      }
+  }
+  // Close what is still open, in the order the blocks were opened.
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    if (!blocks[b].ops.empty()) close(b);
+  rep.ops_out = out.size();
+  if (report) *report = std::move(rep);
+  return out;
+}
+
+}  // namespace qrm
