@@ -251,12 +251,47 @@ TEST_CASE("surface march: the history variant's P(out = 1) is the classical path
     CHECK(starts.size() > 50);
     check(m, starts, 4);
   }
+  // Mirrors and glossy surfaces: the coins flow through the model into both the circuit and the
+  // path sum (which uses |U_ed|^2 of the same matrices).
+  SUBCASE("2D room with a mirror block and a glossy wall cell, every cell, 3 steps") {
+    qrm::scene s = room_2d(8);
+    s.at(4, 4).kind = qrm::material::specular;
+    s.at(4, 4).normal_index = 7;  // NW: a diagonal mirror
+    s.at(4, 4).normal = qrm::normalized({-1, -1, 0});
+    s.at(7, 3).kind = qrm::material::glossy;  // the right wall, normal W
+    s.at(7, 3).lobe = 1.5;
+    const qrm::walk_model m(s, qrm::king_2d(), qrm::march_mode::surface);
+    CHECK_FALSE(m.coins_are_real());  // the glossy coin is complex
+    std::vector<qrm::walk_start> starts;
+    for (unsigned y = 0; y < 8; ++y)
+      for (unsigned x = 0; x < 8; ++x) starts.push_back(m.light_map_start({x, y, 0}));
+    check(m, starts, 3);
+  }
+  SUBCASE("3D: the mirror and the glossy sphere at 16^3, 14 directions, starts of a 12x12 image") {
+    for (const qrm::scene& sc : {qrm::render::cornell_mirror(16), qrm::render::cornell_glossy(16, 1.5)}) {
+      CAPTURE(sc.name());
+      const qrm::walk_model m(sc, qrm::cube_directions(14, 2), qrm::march_mode::surface);
+      const auto px = qrm::render::pixel_starts(m, qrm::render::box_scene_camera(16, 12, 12));
+      std::set<std::pair<std::size_t, int>> seen;
+      std::vector<qrm::walk_start> starts;
+      std::size_t on_sphere = 0;
+      for (const auto& p : px)
+        if (p.hit && seen.insert({p.voxel, p.start.direction}).second) {
+          starts.push_back(p.start);
+          on_sphere += sc[p.voxel].kind != qrm::material::lambertian;
+        }
+      CHECK(on_sphere > 3);
+      check(m, starts, 3);
+    }
+  }
 }
 
 TEST_CASE("radiance table: equals the per-start path sum on every start of an image") {
   const std::pair<std::string, qrm::walk_model> cases[] = {
       {"surface, golden 32, F=4",
        qrm::walk_model(qrm::render::cornell_box(16), qrm::golden_spiral(32, 4), qrm::march_mode::surface)},
+      {"surface, glossy sphere, golden 32, F=4",
+       qrm::walk_model(qrm::render::cornell_glossy(16, 2.0), qrm::golden_spiral(32, 4), qrm::march_mode::surface)},
       {"voxel, cube 26, F=0", qrm::walk_model(qrm::render::two_spheres(16), qrm::cube_directions(26, 0), qrm::march_mode::voxel)}};
   for (const auto& c : cases) {
     const std::string& name = c.first;

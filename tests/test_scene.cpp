@@ -161,3 +161,44 @@ TEST_CASE("malformed scene files are rejected with the line and the problem") {
   CHECK(error_of([] { qrm::load_scene("/nonexistent/scene.txt"); }) == "/nonexistent/scene.txt: cannot open the scene file");
   CHECK(error_of([] { qrm::scene("s", 2, 12); }) == "scene: size must be a power of two >= 2 (N = 2^P), got 12");
 }
+
+TEST_CASE("glossy voxels in scene files: kind G with 'lobe T', written back exactly, bad values refused") {
+  const qrm::scene s = qrm::parse_scene(
+      "qrm-scene 1\ndims 3\nsize 4\nvoxel 1 1 1 G 0 1 0 lobe 1.25 rho 0.9 0.9 0.9\nfill 2 2 2 2 2 3 glossy 1 0 0 lobe 0 "
+      "rho 1 1 1\nvoxel 1 2 1 S 0 0 1 rho 0.5 0.5 0.5\n",
+      "g.txt");
+  CHECK(s.at(1, 1, 1).kind == qrm::material::glossy);
+  CHECK(s.at(1, 1, 1).lobe == 1.25);
+  CHECK(s.at(2, 2, 3).lobe == 0.0);
+  CHECK(s.at(1, 2, 1).kind == qrm::material::specular);
+  const std::string text = qrm::format_scene(s);
+  CHECK(text.find(" G 0 1 0 lobe 1.25 rho") != std::string::npos);
+  CHECK(qrm::parse_scene(text, "again").voxels() == s.voxels());
+  // 2D: glossy voxel lines work; a grid cell has no room for the lobe.
+  const qrm::scene s2 = qrm::parse_scene(std::string(header2d) + "voxel 1 1 G 2 lobe 0.5 rho w\n", "g2.txt");
+  CHECK(s2.at(1, 1).lobe == 0.5);
+  CHECK(qrm::parse_scene(qrm::format_scene(s2), "again").voxels() == s2.voxels());
+  auto err = [](const std::string& text) { return error_of([&] { qrm::parse_scene(text, "s.txt"); }); };
+  const std::string head3 = "qrm-scene 1\ndims 3\nsize 4\n";
+  CHECK(err(head3 + "voxel 1 1 1 G 0 1 0 lobe -0.5 rho 1 1 1\n") ==
+        "s.txt:4: lobe -0.5 outside [0, 4] (the glossy lobe parameter; 0 is a mirror)");
+  CHECK(err(head3 + "voxel 1 1 1 G 0 1 0 lobe 4.5 rho 1 1 1\n") ==
+        "s.txt:4: lobe 4.5 outside [0, 4] (the glossy lobe parameter; 0 is a mirror)");
+  CHECK(err(head3 + "voxel 1 1 1 G 0 1 0 lobe nan rho 1 1 1\n") == "s.txt:4: lobe: nan is not finite");
+  CHECK(err(head3 + "voxel 1 1 1 G 0 1 0 lobe\n") == "s.txt:4: 'lobe' needs a number in [0, 4]");
+  CHECK(err(head3 + "voxel 1 1 1 G 0 1 0 rho 1 1 1\n") == "s.txt:4: a glossy voxel needs 'lobe T' (T in [0, 4]; 0 is a mirror)");
+  CHECK(err(head3 + "voxel 1 1 1 S 0 1 0 lobe 1 rho 1 1 1\n") ==
+        "s.txt:4: 'lobe' is the glossy lobe parameter; a specular voxel has none");
+  CHECK(err(std::string(header2d) + "kinds\n. G2 . .\n") ==
+        "s.txt:6: glossy cell 'G2' at x = 1: a grid cell has no room for the lobe; use a line 'voxel X Y G N lobe T rho C'");
+  // Scenes built in code are checked too (walk_model validates).
+  qrm::scene bad("bad", 3, 4);
+  bad.at(1, 1, 1).kind = qrm::material::glossy;
+  bad.at(1, 1, 1).normal = {0, 1, 0};
+  bad.at(1, 1, 1).lobe = -1;
+  CHECK(error_of([&] { bad.validate(); }) == "scene 'bad': voxel (1, 1, 1): lobe -1.000000 outside [0, 4] (the glossy lobe parameter)");
+  bad.at(1, 1, 1).kind = qrm::material::lambertian;
+  bad.at(1, 1, 1).lobe = 0.5;
+  CHECK(error_of([&] { bad.validate(); }) ==
+        "scene 'bad': voxel (1, 1, 1): lobe 0.500000 on a lambertian voxel (only glossy voxels have a lobe)");
+}

@@ -4,8 +4,9 @@
 //
 // A pixel: the camera ray's first hit (render/dda.hpp) starts a walk at the hit voxel's centre,
 // moving in the model's direction nearest the ray among those the voxel's coin treats as
-// incoming (so the coin scatters the walker out of the surface; a Lambertian voxel's incoming
-// directions are split_hemisphere(...).incoming; other kinds use the nearest direction of all).
+// incoming (so the coin scatters the walker out of the surface; a Lambertian, specular or glossy
+// voxel's incoming directions are split_hemisphere(...).incoming; a boundary voxel uses the
+// nearest direction of all).
 // Its radiance, per channel, is
 //     L = Le(hit) + rho(hit) * E[f],
 // E[f] the walk's path sum for `steps` steps (qrm::path_sum). The walk's f does not include the
@@ -103,7 +104,7 @@ inline walk_start hit_walk_start(const walk_model& m, const voxel_hit& h, const 
   walk_start s;
   s.voxel = h.voxel;
   const voxel& v = m.scene_data()[h.index];
-  if (v.kind == material::lambertian) {
+  if (v.kind == material::lambertian || v.kind == material::specular || v.kind == material::glossy) {
     const lambertian_split sp = split_hemisphere(m.directions(), v.normal);
     double best = -2;
     for (std::size_t k : sp.incoming) {

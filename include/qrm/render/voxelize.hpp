@@ -38,11 +38,15 @@
 
 namespace qrm::render {
 
-// What a surface voxel gets.
+// What a surface voxel gets: its kind (lambertian, specular, glossy), reflectance, emission and,
+// for glossy surfaces, the lobe parameter (walk/coins.hpp, glossy_coin). A specular or glossy
+// voxel's coin mirrors about the voxel's normal (below: a sphere's radial direction, a box
+// edge's mean of its faces' normals).
 struct surface_material {
   material kind = material::lambertian;
   rgb reflectance{0.75, 0.75, 0.75};
   rgb emission{0, 0, 0};
+  double lobe = 0;
 };
 
 // A rectangle: centre, orthonormal in-plane axes u and v with half extents, and the unit normal
@@ -239,6 +243,7 @@ class voxelizer {
       v.kind = w.mat.kind;
       v.reflectance = w.mat.reflectance;
       v.emission = w.mat.emission;
+      v.lobe = w.mat.lobe;
       const auto xyz = sc.coords(i);
       v.normal = norm(normal_sum[i]) > 1e-9 ? normalized(normal_sum[i]) : normal_at(w, centre_of(xyz));
     }
@@ -434,9 +439,9 @@ template <int = 0>
 inline scene cornell_box(unsigned size, const rgb& light_emission = {17, 12, 4}) {
   qrm::detail::check_box_scene_size("cornell_box", size);
   const qrm::detail::cornell_frame fr(size);
-  const surface_material white{material::lambertian, cornell_white, {}};
-  const surface_material red{material::lambertian, cornell_red, {}};
-  const surface_material green{material::lambertian, cornell_green, {}};
+  const surface_material white{material::lambertian, cornell_white, {}, 0};
+  const surface_material red{material::lambertian, cornell_red, {}, 0};
+  const surface_material green{material::lambertian, cornell_green, {}, 0};
   voxelizer vx(size);
   // Faces -x, +x, -y, +y, -z (open), +z: the coloured walls come first, so they win the edges.
   vx.add_box(qrm::detail::room_box(size), {green, red, white, white, white, white}, qrm::detail::room_faces, true);
@@ -459,15 +464,51 @@ template <int = 0>
 inline scene two_spheres(unsigned size, const rgb& light_emission = {10, 10, 10}) {
   qrm::detail::check_box_scene_size("two_spheres", size);
   const qrm::detail::cornell_frame fr(size);
-  const surface_material grey{material::lambertian, {0.75, 0.75, 0.75}, {}};
+  const surface_material grey{material::lambertian, {0.75, 0.75, 0.75}, {}, 0};
   voxelizer vx(size);
   vx.add_box(qrm::detail::room_box(size), grey, qrm::detail::room_faces, true);
-  vx.add_sphere({fr.at(vec3{385, 110, 330}), fr.k * 110}, {material::lambertian, {0.2, 0.35, 0.75}, {}});
-  vx.add_sphere({fr.at(vec3{160, 70, 200}), fr.k * 70}, {material::lambertian, {0.8, 0.45, 0.15}, {}});
+  vx.add_sphere({fr.at(vec3{385, 110, 330}), fr.k * 110}, {material::lambertian, {0.2, 0.35, 0.75}, {}, 0});
+  vx.add_sphere({fr.at(vec3{160, 70, 200}), fr.k * 70}, {material::lambertian, {0.8, 0.45, 0.15}, {}, 0});
   scene sc = vx.build("two_spheres_" + std::to_string(size));
   qrm::detail::paint_ceiling_light(sc, fr.at(192.5), fr.at(357.5), fr.at(192.5), fr.at(357.5), light_emission);
   sc.validate();
   return sc;
+}
+
+// cornell_mirror(N, reflectance, light_emission): the Cornell box (cornell_box above: room,
+// light, short block) with the tall block replaced by a mirror sphere (specular, reflectance
+// 0.9 grey, radius 110 mm resting on the floor at x = 385, z = 330 mm: where two_spheres puts
+// its large sphere, between the short block and the red wall). Seen through box_scene_camera,
+// its left limb reflects the red wall beside it, its top the ceiling and light, its right side
+// the room and the green wall, its centre the open front (black).
+// cornell_glossy(N, lobe): the same room with a glossy sphere (glossy_coin with that lobe).
+template <int = 0>
+inline scene cornell_sphere(unsigned size, const surface_material& ball, const std::string& name,
+                            const rgb& light_emission = {17, 12, 4}) {
+  qrm::detail::check_box_scene_size(name.c_str(), size);
+  const qrm::detail::cornell_frame fr(size);
+  const surface_material white{material::lambertian, cornell_white, {}, 0};
+  const surface_material red{material::lambertian, cornell_red, {}, 0};
+  const surface_material green{material::lambertian, cornell_green, {}, 0};
+  voxelizer vx(size);
+  vx.add_box(qrm::detail::room_box(size), {green, red, white, white, white, white}, qrm::detail::room_faces, true);
+  const unsigned no_bottom = all_box_faces & ~box_face_bit(1, false);
+  vx.add_box(qrm::detail::published_block(fr, {{{130, 65}, {82, 225}, {240, 272}, {290, 114}}}, 165), white, no_bottom);
+  vx.add_sphere({fr.at(vec3{385, 110, 330}), fr.k * 110}, ball);
+  scene sc = vx.build(name + "_" + std::to_string(size));
+  qrm::detail::paint_ceiling_light(sc, fr.at(213), fr.at(343), fr.at(227), fr.at(332), light_emission);
+  sc.validate();
+  return sc;
+}
+template <int = 0>
+inline scene cornell_mirror(unsigned size, const rgb& reflectance = {0.9, 0.9, 0.9}) {
+  return cornell_sphere(size, {material::specular, reflectance, {}, 0}, "cornell_mirror");
+}
+template <int = 0>
+inline scene cornell_glossy(unsigned size, double lobe = 1.0, const rgb& reflectance = {0.9, 0.9, 0.9}) {
+  if (!(lobe >= 0.0 && lobe <= glossy_lobe_max))
+    throw std::invalid_argument("cornell_glossy: lobe " + std::to_string(lobe) + " outside [0, 4]");
+  return cornell_sphere(size, {material::glossy, reflectance, {}, lobe}, "cornell_glossy");
 }
 
 // box_scene_camera(N, width, height): the Cornell box's published camera (at (278, 273, -800)

@@ -66,11 +66,12 @@ class walk_model {
     if (s.dims() == 2 && dirs_.fractional_bits != 0)
       throw std::invalid_argument("walk_model: 2D walks move whole cells (0 fractional bits)");
     coin_of_voxel_.assign(s.voxel_count(), -1);
-    std::map<std::tuple<int, double, double, double, int>, int> seen;
+    std::map<std::tuple<int, double, double, double, int, double>, int> seen;
     for (std::size_t i = 0; i < s.voxel_count(); ++i) {
       const voxel& v = s[i];
       if (v.kind == material::air) continue;
-      const auto key = std::make_tuple(static_cast<int>(v.kind), v.normal[0], v.normal[1], v.normal[2], v.normal_index);
+      const auto key =
+          std::make_tuple(static_cast<int>(v.kind), v.normal[0], v.normal[1], v.normal[2], v.normal_index, v.lobe);
       auto it = seen.find(key);
       if (it == seen.end()) {
         it = seen.emplace(key, static_cast<int>(coins_.size())).first;
@@ -228,10 +229,17 @@ class walk_model {
         return scene_->lambertian_coin() == lambertian_2d::symmetric ? lambertian_coin_2d_symmetric(v.normal_index)
                                                                      : lambertian_coin_2d(v.normal_index);
       case material::boundary: return boundary_coin(dirs_);
-      case material::specular: return specular_coin(dirs_, v.normal);
+      case material::specular: return specular_coin(dirs_, mirror_normal(v));
+      case material::glossy: return glossy_coin(dirs_, mirror_normal(v), v.lobe);
       case material::air: break;
     }
     throw std::logic_error("make_coin: air has no coin");
+  }
+
+  // A 2D voxel's normal is its index (scenes built in code may leave the vector unset): the
+  // king direction of that index.
+  vec3 mirror_normal(const voxel& v) const {
+    return dims() == 2 ? dirs_.vectors[static_cast<std::size_t>(v.normal_index)] : v.normal;
   }
 
   std::shared_ptr<const scene> scene_;  // shared: copies of a model are cheap

@@ -17,7 +17,7 @@
 
 namespace qrm {
 
-enum class material : unsigned char { air, lambertian, boundary, specular };
+enum class material : unsigned char { air, lambertian, boundary, specular, glossy };
 
 constexpr const char* material_name(material m) {
   switch (m) {
@@ -25,6 +25,7 @@ constexpr const char* material_name(material m) {
     case material::lambertian: return "lambertian";
     case material::boundary: return "boundary";
     case material::specular: return "specular";
+    case material::glossy: return "glossy";
   }
   return "?";
 }
@@ -62,6 +63,11 @@ inline vec3 normalized(const vec3& a) {
   return {s[0] / ls, s[1] / ls, s[2] / ls};
 }
 
+// The glossy lobe parameter's range (glossy_coin in walk/coins.hpp): up to 4 the lobe's mean
+// cosine to the mirror direction falls monotonically for every direction set of 14 to 64
+// directions (the discrete wave spreads; further on it partly comes back).
+inline constexpr double glossy_lobe_max = 4.0;
+
 struct voxel {
   material kind = material::air;
   // 2D: the normal as one of the 8 direction indices (0 N, 1 NE, ..., 7 NW); -1 for none.
@@ -70,6 +76,9 @@ struct voxel {
   vec3 normal{0, 0, 0};
   rgb reflectance{1, 1, 1};  // air transmits everything (the paper's "A" = (1,1,1))
   rgb emission{0, 0, 0};
+  // Glossy voxels: the lobe parameter tau of glossy_coin (walk/coins.hpp), in [0,
+  // glossy_lobe_max]; 0 for every other kind.
+  double lobe = 0;
   bool operator==(const voxel&) const = default;
 };
 
@@ -180,6 +189,11 @@ class scene {
           throw std::invalid_argument(where + ": emission " + std::to_string(e) + " must be finite and >= 0 in channel " +
                                       "RGB"[ch]);
       }
+      if (v.kind == material::glossy ? !(v.lobe >= 0.0 && v.lobe <= glossy_lobe_max) : v.lobe != 0.0)
+        throw std::invalid_argument(where + ": lobe " + std::to_string(v.lobe) +
+                                    (v.kind == material::glossy ? " outside [0, " + std::to_string(static_cast<int>(glossy_lobe_max)) + "] (the glossy lobe parameter)"
+                                                                : " on a " + std::string(material_name(v.kind)) +
+                                                                      " voxel (only glossy voxels have a lobe)"));
       if (v.kind == material::air) continue;
       if (dims_ == 2 && (v.normal_index < 0 || v.normal_index > 7))
         throw std::invalid_argument(where + ": a " + material_name(v.kind) + " voxel needs a normal index 0..7, got " +

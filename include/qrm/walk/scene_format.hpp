@@ -8,12 +8,15 @@
 //   color W 1 1 1                 named colours for the statements below
 //   kinds                         2D only: N rows (y = 0 first) of N tokens (x = 0 first):
 //   B3 L4 ... B5                    .  air, L<n> Lambertian, B<n> boundary, S<n> specular,
-//   ...                             n = normal index 0..7 (0 N, 1 NE, 2 E, ..., 7 NW)
+//   ...                             n = normal index 0..7 (0 N, 1 NE, 2 E, ..., 7 NW); glossy
+//                                   cells need a lobe, so they are voxel lines, not grid cells
 //   emission                      2D only: N rows of N colour names
 //   reflectance                   2D only: N rows of N colour names
-//   voxel X Y [Z] KIND [NORMAL] [rho C] [le C]
-//   fill X0 Y0 [Z0] X1 Y1 [Z1] KIND [NORMAL] [rho C] [le C]     (inclusive box)
-//                                 (rho is required for non-air voxels; le defaults to 0)
+//   voxel X Y [Z] KIND [NORMAL] [lobe T] [rho C] [le C]
+//   fill X0 Y0 [Z0] X1 Y1 [Z1] KIND [NORMAL] [lobe T] [rho C] [le C]     (inclusive box)
+//                                 (rho is required for non-air voxels; le defaults to 0; lobe
+//                                 is required for glossy voxels and refused for other kinds:
+//                                 T in [0, 4], glossy_coin's lobe parameter, 0 = a mirror)
 //   march voxel|surface           optional: the walk this scene is made for: voxel (the paper's
 //                                 one voxel per step) or surface (one bounce per step); the CLI
 //                                 uses it unless --march says otherwise (default surface)
@@ -27,7 +30,7 @@
 //                                 it, 3D files of size >= 8 use the Cornell box's camera: at the
 //                                 open -z side looking along +z, +y up, +x on the image's left.
 //
-// KIND is air, L, B or S (or lambertian, boundary, specular); NORMAL is an index 0..7 in 2D
+// KIND is air, L, B, S or G (or lambertian, boundary, specular, glossy); NORMAL is an index 0..7 in 2D
 // and three numbers in 3D (normalised on reading); a colour C is a name or three numbers.
 // Reflectance must lie in [0, 1]; emission must be finite and >= 0 (above 1 is fine: the walk
 // circuit divides by the scene's largest emission and the estimate is scaled back). Every
@@ -216,7 +219,7 @@ class scene_parser {
   }
   // KIND [NORMAL]: sets kind and normal; returns the next token index.
   std::size_t read_kind(const std::vector<std::string>& t, std::size_t i, unsigned dims, voxel& v) const {
-    if (i >= t.size()) fail("missing voxel kind (air, L, B or S)");
+    if (i >= t.size()) fail("missing voxel kind (air, L, B, S or G)");
     const std::string& k = t[i++];
     if (k == "air" || k == ".") {
       v.kind = material::air;
@@ -225,7 +228,8 @@ class scene_parser {
     if (k == "L" || k == "lambertian") v.kind = material::lambertian;
     else if (k == "B" || k == "boundary") v.kind = material::boundary;
     else if (k == "S" || k == "specular") v.kind = material::specular;
-    else fail("unknown voxel kind '" + k + "' (air, L, B or S)");
+    else if (k == "G" || k == "glossy") v.kind = material::glossy;
+    else fail("unknown voxel kind '" + k + "' (air, L, B, S or G)");
     if (dims == 2) {
       if (i >= t.size()) fail("missing normal index after kind " + k);
       set_normal_2d(v, integer(t[i++], "normal"));
@@ -302,10 +306,19 @@ class scene_parser {
     }
     voxel v;
     std::size_t i = read_kind(t, 1 + ncoord, d, v);
-    bool rho_set = false;
+    bool rho_set = false, lobe_set = false;
     while (i < t.size()) {
       const std::string key = t[i++];
-      if (key == "rho") {
+      if (key == "lobe") {
+        if (v.kind != material::glossy)
+          fail("'lobe' is the glossy lobe parameter; a " + std::string(material_name(v.kind)) + " voxel has none");
+        if (i >= t.size()) fail("'lobe' needs a number in [0, 4]");
+        v.lobe = number(t[i], "lobe");
+        if (!(v.lobe >= 0.0 && v.lobe <= glossy_lobe_max))
+          fail("lobe " + t[i] + " outside [0, 4] (the glossy lobe parameter; 0 is a mirror)");
+        ++i;
+        lobe_set = true;
+      } else if (key == "rho") {
         v.reflectance = read_color(t, i, "rho");
         check_reflectance(v.reflectance);
         rho_set = true;
@@ -313,10 +326,11 @@ class scene_parser {
         v.emission = read_color(t, i, "le");
         check_emission(v.emission);
       } else {
-        fail("unexpected '" + key + "' (expected rho or le)");
+        fail("unexpected '" + key + "' (expected rho, le or, for glossy voxels, lobe)");
       }
     }
     if (!rho_set && v.kind != material::air) fail("a " + std::string(material_name(v.kind)) + " voxel needs 'rho C'");
+    if (!lobe_set && v.kind == material::glossy) fail("a glossy voxel needs 'lobe T' (T in [0, 4]; 0 is a mirror)");
     long long lo[3] = {c[0], c[1], d == 3 ? c[2] : 0}, hi[3] = {lo[0], lo[1], lo[2]};
     if (box) {
       for (unsigned a = 0; a < d; ++a) hi[a] = c[d + a];
@@ -355,6 +369,9 @@ class scene_parser {
           if (k == 'L') v.kind = material::lambertian;
           else if (k == 'B') v.kind = material::boundary;
           else if (k == 'S') v.kind = material::specular;
+          else if (k == 'G')
+            fail("glossy cell '" + tok + "' at x = " + std::to_string(x) +
+                 ": a grid cell has no room for the lobe; use a line 'voxel X Y G N lobe T rho C'");
           else fail("unknown cell '" + tok + "' at x = " + std::to_string(x) + " (expected ., L<n>, B<n> or S<n>)");
           set_normal_2d(v, integer(tok.substr(1), "normal of cell '" + tok + "'"));
         } else if (key == "emission") {
@@ -419,6 +436,7 @@ inline std::string format_scene(const scene& s) {
       case material::lambertian: out += " L"; break;
       case material::boundary: out += " B"; break;
       case material::specular: out += " S"; break;
+      case material::glossy: out += " G"; break;
     }
     if (v.kind != material::air) {
       if (s.dims() == 2)
@@ -426,6 +444,7 @@ inline std::string format_scene(const scene& s) {
       else
         out += " " + format_double(v.normal[0]) + " " + format_double(v.normal[1]) + " " + format_double(v.normal[2]);
     }
+    if (v.kind == material::glossy) out += " lobe " + format_double(v.lobe);
     out += " rho " + format_double(v.reflectance.r) + " " + format_double(v.reflectance.g) + " " +
            format_double(v.reflectance.b);
     out += " le " + format_double(v.emission.r) + " " + format_double(v.emission.g) + " " + format_double(v.emission.b);
