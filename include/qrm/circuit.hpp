@@ -7,6 +7,7 @@
 //   circuit/compose.hpp    seq, repeat, unroll, circuit<L, ...> with constexpr width / depth bound, run()
 //   circuit/program.hpp    run-time programs: record, replay, invert
 //   circuit/metrics.hpp    width, logical depth, gate counts of a program
+//   circuit/fuse.hpp       gate fusion: runs of small gates multiplied into one matrix
 //   circuit/decompose.hpp  lowering to single-qubit gates + CNOTs (with ancillas), decomposed counts
 //   circuit/qasm.hpp       OpenQASM 3 export (logical or decomposed) and import
 #pragma once
@@ -18,5 +19,6 @@
 #include "circuit/compose.hpp"
 #include "circuit/program.hpp"
 #include "circuit/metrics.hpp"
+#include "circuit/fuse.hpp"
 #include "circuit/decompose.hpp"
 #include "circuit/qasm.hpp"

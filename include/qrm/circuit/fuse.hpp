@@ -12,8 +12,9 @@
 // opens a new block. Open blocks act on disjoint qubits, so they commute with each other and
 // closing one early never reorders two ops that share a qubit. Controls count as qubits of the
 // block (a CNOT is a 2-qubit block). Ops that cannot join (adds and multiplexed ops, whose
-// kernels use their structure, and gates wider than `max_qubits`) close the blocks they touch
-// and pass through unchanged. A block holding a single op is written unchanged (its kernel may
+// kernels use their structure, gates wider than `max_qubits`, and gates with two or more
+// controls unless one block already holds all their qubits: alone they visit a quarter of the
+// state or less) close the blocks they touch and pass through unchanged. A block holding a single op is written unchanged (its kernel may
 // be cheaper than a dense matrix's: X is a swap, a controlled gate visits only its subspace);
 // a block of single-qubit gates on one qubit becomes one gate1.
 #pragma once
@@ -115,6 +116,10 @@ inline std::vector<qubit_index> fusable_qubits(const op::any& o) {
   return q;
 }
 
+inline std::size_t control_count(const op::any& o) {
+  return visit_op(o, [](const auto& x) { return x.controls.size(); });
+}
+
 }  // namespace detail
 
 // fuse(p, options, report): p with runs of small gates multiplied into dense unitary ops on at
@@ -181,7 +186,10 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
         width += blocks[b].qubits.size();
       }
     }
-    if (q.empty() || q.size() > k) {  // cannot join: close what it touches, pass it through
+    // A gate with two or more controls alone visits a quarter of the state or less; in a block
+    // it would cost a whole dense pass. It joins only a block that already holds all its qubits.
+    const bool sparse_alone = detail::control_count(o) >= 2 && !(touched.size() == 1 && width == blocks[touched[0]].qubits.size());
+    if (q.empty() || q.size() > k || sparse_alone) {  // cannot join: close what it touches, pass it through
       for (std::size_t b : touched) close(b);
       write_op(i);
       ++rep.passed_through;

@@ -70,25 +70,29 @@ struct lanes<float, 2> {
   typedef float type __attribute__((vector_size(16)));
 };
 
-// Applies the job at the bases that are members [k0, k1) of s; W amplitudes per vector (W = 2
-// needs runs of at least two bases). Everything it calls is inlined, so each ISA's copy below
-// is self-contained (a helper lambda would be compiled without the caller's ISA).
-template <class S, unsigned W, bool RealMatrix, std::size_t Dim>
-[[gnu::always_inline]] inline void csr_range_body(const csr_job<S>& job, const subspace& s, std::uint64_t k0,
-                                                  std::uint64_t k1) {
+// Applies the job at the bases that are members [k0, k1) of s, two bases per 256-bit vector:
+// b and b + step. With Contiguous, step is 1 and s comes in runs of at least two (each pair is
+// one load); otherwise s has the step bit fixed to 0 and the pair is two 128-bit loads. A
+// complex product is two sums, A = sum re(m) x and B = sum im(m) x, and out = A + i B, where
+// i B swaps each (re, im) pair and negates the new real part: one vector per column instead of
+// two. Everything it calls is inlined, so each ISA's copy below is self-contained (a helper
+// lambda would be compiled without the caller's ISA).
+template <class S, bool Contiguous, bool RealMatrix, std::size_t Dim>
+[[gnu::always_inline]] inline void csr_range_body(const csr_job<S>& job, const subspace& s, std::uint64_t step,
+                                                  std::uint64_t k0, std::uint64_t k1) {
   using R = typename scalar_traits<S>::real;
-  static_assert(scalar_traits<S>::is_complex && (W == 1 || W == 2));
-  using vec = typename lanes<double, W>::type;
-  using stored = typename lanes<R, W>::type;
+  static_assert(scalar_traits<S>::is_complex);
+  using vec = typename lanes<double, 2>::type;
+  using stored = typename lanes<R, 2>::type;
+  using stored_half = typename lanes<R, 1>::type;
   const csr_matrix& m = *job.m;
   const std::size_t dim = Dim ? Dim : m.dim;
   const std::uint64_t* off = job.offsets;
   const double* dense_re = job.dense_re;
   const double* dense_im = job.dense_im;
   R* p = reinterpret_cast<R*>(job.a);
-  vec x[vector_kernel_max_dim], xs[vector_kernel_max_dim];
-  vec sign;
-  for (unsigned l = 0; l < 2 * W; ++l) sign[l] = (l % 2 == 0) ? -1.0 : 1.0;
+  vec x[vector_kernel_max_dim];
+  const vec sign = {-1.0, 1.0, -1.0, 1.0};
 
   const std::uint64_t run = s.npos ? (std::uint64_t{1} << s.pos[0]) : s.count();
   const std::uint64_t fixed = s.fixed_mask;
@@ -96,37 +100,47 @@ template <class S, unsigned W, bool RealMatrix, std::size_t Dim>
   for (std::uint64_t k = k0; k < k1;) {
     const std::uint64_t first = free | s.fixed_value;
     const std::uint64_t len = std::min(run, k1 - k);
-    for (std::uint64_t b = first; b < first + len; b += W) {
+    for (std::uint64_t b = first; b < first + len; b += Contiguous ? 2 : 1) {
       for (std::size_t c = 0; c < dim; ++c) {
         stored v;
-        std::memcpy(&v, p + 2 * (b + off[c]), sizeof v);
+        if constexpr (Contiguous) {
+          std::memcpy(&v, p + 2 * (b + off[c]), sizeof v);
+        } else {
+          stored_half lo, hi;
+          std::memcpy(&lo, p + 2 * (b + off[c]), sizeof lo);
+          std::memcpy(&hi, p + 2 * (b + step + off[c]), sizeof hi);
+          v = __builtin_shufflevector(lo, hi, 0, 1, 2, 3);
+        }
         if constexpr (std::is_same_v<R, double>)
           x[c] = v;
         else
           x[c] = __builtin_convertvector(v, vec);
-        if constexpr (W == 1)
-          xs[c] = __builtin_shufflevector(x[c], x[c], 1, 0) * sign;
-        else
-          xs[c] = __builtin_shufflevector(x[c], x[c], 1, 0, 3, 2) * sign;
       }
       for (std::size_t r = 0; r < dim; ++r) {
-        vec acc = {};
+        vec acc = {}, acc_im = {};
         if constexpr (Dim != 0) {  // dense: fixed trip counts the compiler unrolls
           for (std::size_t c = 0; c < Dim; ++c) {
             acc += dense_re[r * Dim + c] * x[c];
-            if constexpr (!RealMatrix) acc += dense_im[r * Dim + c] * xs[c];
+            if constexpr (!RealMatrix) acc_im += dense_im[r * Dim + c] * x[c];
           }
         } else {
           for (std::uint32_t e = m.row_start[r]; e < m.row_start[r + 1]; ++e) {
             acc += m.re[e] * x[m.col[e]];
-            if constexpr (!RealMatrix) acc += m.im[e] * xs[m.col[e]];
+            if constexpr (!RealMatrix) acc_im += m.im[e] * x[m.col[e]];
           }
         }
-        if constexpr (std::is_same_v<R, double>) {
-          std::memcpy(p + 2 * (b + off[r]), &acc, sizeof acc);
-        } else {
-          const stored out = __builtin_convertvector(acc, stored);
+        if constexpr (!RealMatrix) acc += __builtin_shufflevector(acc_im, acc_im, 1, 0, 3, 2) * sign;
+        stored out;
+        if constexpr (std::is_same_v<R, double>)
+          out = acc;
+        else
+          out = __builtin_convertvector(acc, stored);
+        if constexpr (Contiguous) {
           std::memcpy(p + 2 * (b + off[r]), &out, sizeof out);
+        } else {
+          const stored_half lo = __builtin_shufflevector(out, out, 0, 1), hi = __builtin_shufflevector(out, out, 2, 3);
+          std::memcpy(p + 2 * (b + off[r]), &lo, sizeof lo);
+          std::memcpy(p + 2 * (b + step + off[r]), &hi, sizeof hi);
         }
       }
     }
@@ -135,16 +149,17 @@ template <class S, unsigned W, bool RealMatrix, std::size_t Dim>
   }
 }
 
-template <class S, unsigned W, bool RealMatrix, std::size_t Dim>
-void csr_range_generic(const csr_job<S>& job, const subspace& s, std::uint64_t k0, std::uint64_t k1) {
-  csr_range_body<S, W, RealMatrix, Dim>(job, s, k0, k1);
+template <class S, bool Contiguous, bool RealMatrix, std::size_t Dim>
+void csr_range_generic(const csr_job<S>& job, const subspace& s, std::uint64_t step, std::uint64_t k0,
+                       std::uint64_t k1) {
+  csr_range_body<S, Contiguous, RealMatrix, Dim>(job, s, step, k0, k1);
 }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-template <class S, unsigned W, bool RealMatrix, std::size_t Dim>
-__attribute__((target("avx2,fma"))) void csr_range_avx2(const csr_job<S>& job, const subspace& s, std::uint64_t k0,
-                                                        std::uint64_t k1) {
-  csr_range_body<S, W, RealMatrix, Dim>(job, s, k0, k1);
+template <class S, bool Contiguous, bool RealMatrix, std::size_t Dim>
+__attribute__((target("avx2,fma"))) void csr_range_avx2(const csr_job<S>& job, const subspace& s, std::uint64_t step,
+                                                        std::uint64_t k0, std::uint64_t k1) {
+  csr_range_body<S, Contiguous, RealMatrix, Dim>(job, s, step, k0, k1);
 }
 inline bool cpu_has_avx2_fma() {
   static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
@@ -152,45 +167,55 @@ inline bool cpu_has_avx2_fma() {
 }
 #endif
 
-template <class S, unsigned W, std::size_t Dim>
-void csr_range_dim(const csr_job<S>& job, const subspace& s, std::uint64_t k0, std::uint64_t k1) {
+template <class S, bool Contiguous, std::size_t Dim>
+void csr_range_dim(const csr_job<S>& job, const subspace& s, std::uint64_t step, std::uint64_t k0, std::uint64_t k1) {
   const bool real = job.m->real;
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
   if (cpu_has_avx2_fma()) {
     if (real)
-      csr_range_avx2<S, W, true, Dim>(job, s, k0, k1);
+      csr_range_avx2<S, Contiguous, true, Dim>(job, s, step, k0, k1);
     else
-      csr_range_avx2<S, W, false, Dim>(job, s, k0, k1);
+      csr_range_avx2<S, Contiguous, false, Dim>(job, s, step, k0, k1);
     return;
   }
 #endif
   if (real)
-    csr_range_generic<S, W, true, Dim>(job, s, k0, k1);
+    csr_range_generic<S, Contiguous, true, Dim>(job, s, step, k0, k1);
   else
-    csr_range_generic<S, W, false, Dim>(job, s, k0, k1);
+    csr_range_generic<S, Contiguous, false, Dim>(job, s, step, k0, k1);
 }
 
-// Dense matrices of 4, 8 or 16 rows run with unrolled loops; sparse ones (and 32, 64 rows) by rows.
-template <class S, unsigned W>
-void csr_range_width(const csr_job<S>& job, const subspace& s, std::uint64_t k0, std::uint64_t k1) {
+// Dense matrices of 4, 8 or 16 rows run with unrolled loops; sparse ones (and 32, 64 rows) by
+// row lists. `s` is the subspace of bases as csr_pairs describes it.
+template <class S, bool Contiguous>
+void csr_range(const csr_job<S>& job, const subspace& s, std::uint64_t step, std::uint64_t k0, std::uint64_t k1) {
   if (job.dense_re) {
     switch (job.m->dim) {
-      case 4: return csr_range_dim<S, W, 4>(job, s, k0, k1);
-      case 8: return csr_range_dim<S, W, 8>(job, s, k0, k1);
-      case 16: return csr_range_dim<S, W, 16>(job, s, k0, k1);
+      case 4: return csr_range_dim<S, Contiguous, 4>(job, s, step, k0, k1);
+      case 8: return csr_range_dim<S, Contiguous, 8>(job, s, step, k0, k1);
+      case 16: return csr_range_dim<S, Contiguous, 16>(job, s, step, k0, k1);
       default: break;
     }
   }
-  csr_range_dim<S, W, 0>(job, s, k0, k1);
+  csr_range_dim<S, Contiguous, 0>(job, s, step, k0, k1);
 }
 
-// The range loop for this CPU and these bases: two bases per vector when they come in pairs.
-template <class S>
-void csr_range(const csr_job<S>& job, const subspace& s, std::uint64_t k0, std::uint64_t k1) {
-  if (s.run_log2() >= 1)
-    csr_range_width<S, 2>(job, s, k0, k1);
-  else
-    csr_range_width<S, 1>(job, s, k0, k1);
+// How the bases of s pair up: neighbours when s comes in runs of two or more (step 1), else
+// b and b + 2^f for the lowest free qubit f, enumerated as the subspace with f also fixed to 0.
+// No pair when s has a single base (every qubit a target or control): step 0.
+struct csr_pairs {
+  subspace bases;
+  std::uint64_t step;
+  bool contiguous;
+};
+inline csr_pairs pair_bases(const subspace& s) {
+  if (s.run_log2() >= 1) return {s, 1, true};
+  for (unsigned f = 0; f < s.n; ++f)
+    if (!((s.fixed_mask >> f) & 1u)) {
+      const std::uint64_t step = std::uint64_t{1} << f;
+      return {subspace(s.n, s.fixed_mask | step, s.fixed_value), step, false};
+    }
+  return {s, 0, false};
 }
 
 }  // namespace qrm::detail

@@ -397,8 +397,17 @@ void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qub
         job.dense_re = re.data();
         job.dense_im = im.data();
       }
-      for_each_chunk(s, ex, m.dim, [&](std::uint64_t k0, std::uint64_t k1) { csr_range(job, s, k0, k1); });
-      return;
+      const csr_pairs pairs = pair_bases(s);
+      if (pairs.step != 0) {
+        const subspace& ps = pairs.bases;
+        if (pairs.contiguous)
+          for_each_chunk(ps, ex, m.dim, [&](std::uint64_t k0, std::uint64_t k1) { csr_range<S, true>(job, ps, 1, k0, k1); });
+        else
+          for_each_chunk(ps, ex, 2 * m.dim, [&](std::uint64_t k0, std::uint64_t k1) {
+            csr_range<S, false>(job, ps, pairs.step, k0, k1);
+          });
+        return;
+      }
     }
   }
   const sparse_rows<S> rows(m);

@@ -1,0 +1,63 @@
+// Gate fusion (qrm::fuse) on circuits of small gates, one thread, fused against unfused in the
+// same run: the decomposed A operator of the paper's 8x8 scene (the 1-qubit + CNOT form
+// hardware would run: cell (3, 4), 3 steps, reachable pruning, 21 qubits with ancillas, 5125
+// ops; the circuit `qrm circuit --scene paper_8x8 --x 3 --y 4 --qasm F --decomposed` writes) and the
+// random suite of qrm simulate --random (22 qubits, 300 gates of H, Ry, CX, CCX, C^4 X).
+// Args: circuit (0 walk, 1 random), fusion width (0: unfused).
+#include <benchmark/benchmark.h>
+
+#include <complex>
+#include <qrm/qrm.hpp>
+#include <vector>
+
+#include "random_suite.hpp"
+
+namespace {
+
+const qrm::program& circuit(int which) {
+  static const qrm::program walk = [] {
+    const qrm::walk_model m(qrm::paper_8x8(), qrm::king_2d());
+    qrm::walk_options o;
+    o.steps = 3;
+    o.prune = qrm::pruning::reachable;
+    const qrm::walk_program w = qrm::make_walk_program(m, m.light_map_start({3, 4, 0}), o);
+    return qrm::decompose(w.circuit).circuit;
+  }();
+  static const qrm::program suite = qrm_cli::random_gate_suite(22, 300, 1);
+  return which == 0 ? walk : suite;
+}
+
+template <class S>
+void BM_fusion(benchmark::State& st) {
+  const qrm::program& p = circuit(static_cast<int>(st.range(0)));
+  const auto width = static_cast<unsigned>(st.range(1));
+  const qrm::program run = width ? qrm::fuse(p, {width}) : p;
+  qrm::dense_options o;
+  o.threads = 1;
+  qrm::state_vector<S> s(p.width(), o);
+  for (auto _ : st) {
+    s.set_basis_state(0);
+    qrm::run(s, run);
+    benchmark::DoNotOptimize(s.amplitudes().data());
+  }
+  st.counters["qubits"] = static_cast<double>(p.width());
+  st.counters["ops"] = static_cast<double>(run.size());
+}
+
+}  // namespace
+
+BENCHMARK(BM_fusion<std::complex<double>>)
+    ->ArgNames({"circuit", "fuse"})
+    ->ArgsProduct({{0, 1}, {0, 2, 3, 4, 5}})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->Repetitions(3)
+    ->ReportAggregatesOnly(false);
+BENCHMARK(BM_fusion<std::complex<float>>)
+    ->ArgNames({"circuit", "fuse"})
+    ->ArgsProduct({{0, 1}, {0, 3}})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->Repetitions(3);
+
+BENCHMARK_MAIN();
