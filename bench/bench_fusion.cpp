@@ -3,7 +3,8 @@
 // hardware would run: cell (3, 4), 3 steps, reachable pruning, 21 qubits with ancillas, 5125
 // ops; the circuit `qrm circuit --scene paper_8x8 --x 3 --y 4 --qasm F --decomposed` writes) and the
 // random suite of qrm simulate --random (22 qubits, 300 gates of H, Ry, CX, CCX, C^4 X).
-// Args: circuit (0 walk, 1 random), fusion width (0: unfused).
+// Args: circuit (0 walk, 1 random), fusion width (0: unfused), simd (qrm::simd_level: 0 the
+// best this CPU has, 2 AVX2, 3 AVX-512).
 #include <benchmark/benchmark.h>
 
 #include <complex>
@@ -34,6 +35,7 @@ void BM_fusion(benchmark::State& st) {
   const qrm::program run = width ? qrm::fuse(p, {width}) : p;
   qrm::dense_options o;
   o.threads = 1;
+  o.simd = static_cast<qrm::simd_level>(st.range(2));
   qrm::state_vector<S> s(p.width(), o);
   for (auto _ : st) {
     s.set_basis_state(0);
@@ -42,20 +44,21 @@ void BM_fusion(benchmark::State& st) {
   }
   st.counters["qubits"] = static_cast<double>(p.width());
   st.counters["ops"] = static_cast<double>(run.size());
+  st.SetLabel(qrm::simd_level_name(qrm::detail::resolve_simd(o.simd)));
 }
 
 }  // namespace
 
 BENCHMARK(BM_fusion<std::complex<double>>)
-    ->ArgNames({"circuit", "fuse"})
-    ->ArgsProduct({{0, 1}, {0, 2, 3, 4, 5}})
+    ->ArgNames({"circuit", "fuse", "simd"})
+    ->ArgsProduct({{0, 1}, {0, 2, 3, 4, 5}, {0}})
+    ->ArgsProduct({{0, 1}, {3, 4}, {2}})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
-    ->Repetitions(3)
-    ->ReportAggregatesOnly(false);
+    ->Repetitions(3);
 BENCHMARK(BM_fusion<std::complex<float>>)
-    ->ArgNames({"circuit", "fuse"})
-    ->ArgsProduct({{0, 1}, {0, 3}})
+    ->ArgNames({"circuit", "fuse", "simd"})
+    ->ArgsProduct({{0, 1}, {0, 3, 4}, {0}})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
     ->Repetitions(3);

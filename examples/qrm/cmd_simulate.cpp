@@ -12,6 +12,7 @@
 #include <qrm/circuit/qasm.hpp>
 #include <qrm/support/random.hpp>
 #include <sstream>
+#include <thread>
 #include <string>
 #include <vector>
 
@@ -42,9 +43,10 @@ struct timed_run {
 };
 
 template <class S>
-timed_run run_timed(const qrm::program& p, unsigned threads, unsigned repeat) {
+timed_run run_timed(const qrm::program& p, unsigned threads, unsigned repeat, qrm::simd_level simd) {
   qrm::dense_options o;
   o.threads = threads;
+  o.simd = simd;
   qrm::state_vector<S> s(p.width(), o);
   timed_run r;
   for (unsigned i = 0; i < repeat; ++i) {
@@ -59,11 +61,12 @@ timed_run run_timed(const qrm::program& p, unsigned threads, unsigned repeat) {
   return r;
 }
 
-timed_run run_scalar(const std::string& scalar, const qrm::program& p, unsigned threads, unsigned repeat) {
-  if (scalar == "complex-double") return run_timed<std::complex<double>>(p, threads, repeat);
-  if (scalar == "complex-float") return run_timed<std::complex<float>>(p, threads, repeat);
-  if (scalar == "double") return run_timed<double>(p, threads, repeat);
-  return run_timed<float>(p, threads, repeat);
+timed_run run_scalar(const std::string& scalar, const qrm::program& p, unsigned threads, unsigned repeat,
+                     qrm::simd_level simd) {
+  if (scalar == "complex-double") return run_timed<std::complex<double>>(p, threads, repeat, simd);
+  if (scalar == "complex-float") return run_timed<std::complex<float>>(p, threads, repeat, simd);
+  if (scalar == "double") return run_timed<double>(p, threads, repeat, simd);
+  return run_timed<float>(p, threads, repeat, simd);
 }
 
 double fastest(const timed_run& r) { return *std::min_element(r.seconds.begin(), r.seconds.end()); }
@@ -83,6 +86,8 @@ flag_table simulate_flags() {
        "amplitude type (real types need a circuit of real gates)", run},
       {"fuse", "K|off", "3", "multiply runs of gates on at most K qubits (1..6) into one matrix", run},
       {"threads", "T", "0", "threads (0: every core)", run},
+      {"simd", "auto|generic|avx2|avx512", "auto",
+       "vector instructions of the fused-matrix kernels (a level the CPU lacks runs the best below it)", run},
       {"repeat", "R", "3", "runs of the circuit; the fastest is reported", run},
       {"compare", "", "", "also run without fusion: both times and the largest amplitude difference", run},
       {"format", "json|text", "json", "output on stdout", out},
@@ -99,10 +104,22 @@ int cmd_simulate(args& a) {
     throw usage_error("--scalar must be complex-double, complex-float, double or float, got '" + scalar + "'");
   const std::string fuse_arg = a.str("fuse", "3");
   unsigned fuse_width = 0;
-  if (fuse_arg != "off") fuse_width = static_cast<unsigned>(a.integer("fuse", 3, 1, 6));
+  if (fuse_arg != "off") {
+    if (fuse_arg.empty() || fuse_arg.find_first_not_of("0123456789") != std::string::npos || fuse_arg.size() > 2 ||
+        std::stoi(fuse_arg) < 1 || std::stoi(fuse_arg) > 6)
+      throw usage_error("--fuse must be a width 1..6 or off, got '" + fuse_arg + "'");
+    fuse_width = static_cast<unsigned>(std::stoi(fuse_arg));
+  }
   const auto threads = static_cast<unsigned>(a.integer("threads", 0, 0, 1024));
   const auto repeat = static_cast<unsigned>(a.integer("repeat", 3, 1, 1000));
   const bool compare = a.flag("compare");
+  const std::string simd_arg = a.str("simd", "auto");
+  qrm::simd_level simd = qrm::simd_level::automatic;
+  if (simd_arg == "generic") simd = qrm::simd_level::generic;
+  else if (simd_arg == "avx2") simd = qrm::simd_level::avx2;
+  else if (simd_arg == "avx512") simd = qrm::simd_level::avx512;
+  else if (simd_arg != "auto") throw usage_error("--simd must be auto, generic, avx2 or avx512, got '" + simd_arg + "'");
+  const char* simd_used = qrm::simd_level_name(qrm::detail::resolve_simd(simd));
   const std::string format = a.str("format", "json");
   if (format != "json" && format != "text") throw usage_error("--format must be json or text, got '" + format + "'");
   if (compare && fuse_width == 0) throw usage_error("--compare compares fused with unfused; it needs --fuse K, not off");
@@ -137,11 +154,11 @@ int cmd_simulate(args& a) {
     fused = qrm::fuse(p, {fuse_width}, &rep);
     fuse_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
-  const timed_run main_run = run_scalar(scalar, fuse_width ? fused : p, used_threads, repeat);
+  const timed_run main_run = run_scalar(scalar, fuse_width ? fused : p, used_threads, repeat, simd);
   timed_run plain;
   double difference = 0;
   if (compare) {
-    plain = run_scalar(scalar, p, used_threads, repeat);
+    plain = run_scalar(scalar, p, used_threads, repeat, simd);
     for (std::size_t i = 0; i < plain.state.size(); ++i)
       difference = std::max(difference, std::abs(plain.state[i] - main_run.state[i]));
   }
@@ -151,8 +168,8 @@ int cmd_simulate(args& a) {
     if (fuse_width)
       std::printf("fused     %zu ops (%zu blocks of up to %u qubits) in %.3g s\n", rep.ops_out, rep.fused_blocks,
                   fuse_width, fuse_seconds);
-    std::printf("run       %s, %u thread(s): %.6g s (fastest of %u)\n", scalar.c_str(), used_threads, fastest(main_run),
-                repeat);
+    std::printf("run       %s, %u thread(s), %s kernels: %.6g s (fastest of %u)\n", scalar.c_str(), used_threads,
+                simd_used, fastest(main_run), repeat);
     if (compare)
       std::printf("unfused   %.6g s: fused takes %.3gx the unfused time; largest |difference| %.3g\n", fastest(plain),
                   fastest(main_run) / fastest(plain), difference);
@@ -161,7 +178,7 @@ int cmd_simulate(args& a) {
   }
   json_object j;
   j.add("circuit", source).add("qubits", p.width()).add("ops", p.size()).add("scalar", scalar);
-  j.add("threads", used_threads).add("repeat", repeat);
+  j.add("threads", used_threads).add("simd", simd_used).add("repeat", repeat);
   if (fuse_width) {
     j.add("fuse", fuse_width).add("fused_ops", rep.ops_out).add("fused_blocks", rep.fused_blocks);
     j.add("blocks_by_width", json_array::of(rep.blocks_by_width)).add("fuse_seconds", fuse_seconds);

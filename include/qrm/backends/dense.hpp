@@ -41,6 +41,8 @@ struct dense_options {
   // Multiplexed gates: visit each entry's subspace, or sweep the state once with a table lookup;
   // `automatic` picks by cache-line waste (detail::mux_prefers_sweep).
   mux_strategy mux = mux_strategy::automatic;
+  // Vector instructions of the k-qubit matrix kernels (fused gates): see qrm::simd_level.
+  simd_level simd = simd_level::automatic;
 };
 
 namespace detail {
@@ -93,6 +95,7 @@ class state_vector {
     ex_.threads = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
     ex_.min_parallel = opt.min_parallel;
     ex_.mux = opt.mux;
+    ex_.simd = opt.simd;
     try {
       amps_.assign(static_cast<std::size_t>(std::uint64_t{1} << n_), Scalar{});
     } catch (const std::bad_alloc&) {

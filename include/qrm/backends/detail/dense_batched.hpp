@@ -26,6 +26,23 @@
 #include "bits.hpp"
 #include "scalar.hpp"
 
+namespace qrm {
+// Which vector instructions the matrix kernels use: the best this CPU has (automatic), or a
+// given level (to compare them, or to test each path on one machine); a level the CPU lacks
+// falls back to the best one below it.
+enum class simd_level : unsigned char { automatic, generic, avx2, avx512 };
+
+constexpr const char* simd_level_name(simd_level l) {
+  switch (l) {
+    case simd_level::automatic: return "automatic";
+    case simd_level::generic: return "generic";
+    case simd_level::avx2: return "avx2";
+    case simd_level::avx512: return "avx512";
+  }
+  return "?";
+}
+}  // namespace qrm
+
 namespace qrm::detail {
 
 // The widest matrix these kernels take (fuse() makes at most 2^6).
@@ -47,11 +64,12 @@ struct csr_job {
   S* a;
   const double* dense_re = nullptr;  // the matrix row-major, when it is applied as dense
   const double* dense_im = nullptr;
+  simd_level level = simd_level::generic;  // resolved (never automatic)
 };
 
-// W complex numbers of type R as one GNU vector (2W lanes). Spelled out per size: g++ ignores a
+// N complex numbers of type R as one GNU vector (2N lanes). Spelled out per size: g++ ignores a
 // vector_size that depends on a template parameter.
-template <class R, unsigned W>
+template <class R, unsigned N>
 struct lanes;
 template <>
 struct lanes<double, 1> {
@@ -62,6 +80,10 @@ struct lanes<double, 2> {
   typedef double type __attribute__((vector_size(32)));
 };
 template <>
+struct lanes<double, 4> {
+  typedef double type __attribute__((vector_size(64)));
+};
+template <>
 struct lanes<float, 1> {
   typedef float type __attribute__((vector_size(8)));
 };
@@ -69,22 +91,48 @@ template <>
 struct lanes<float, 2> {
   typedef float type __attribute__((vector_size(16)));
 };
+template <>
+struct lanes<float, 4> {
+  typedef float type __attribute__((vector_size(32)));
+};
 
-// Applies the job at the bases that are members [k0, k1) of s, two bases per 256-bit vector:
-// b and b + step. With Contiguous, step is 1 and s comes in runs of at least two (each pair is
-// one load); otherwise s has the step bit fixed to 0 and the pair is two 128-bit loads. A
-// complex product is two sums, A = sum re(m) x and B = sum im(m) x, and out = A + i B, where
-// i B swaps each (re, im) pair and negates the new real part: one vector per column instead of
-// two. Everything it calls is inlined, so each ISA's copy below is self-contained (a helper
-// lambda would be compiled without the caller's ISA).
-template <class S, bool Contiguous, bool RealMatrix, std::size_t Dim>
-[[gnu::always_inline]] inline void csr_range_body(const csr_job<S>& job, const subspace& s, std::uint64_t step,
+// How N bases share a vector: b + g[j] for j < N. With `contiguous` they are neighbours (the
+// subspace comes in runs of at least N: one load); otherwise g = {0, 2^f1} or
+// {0, 2^f1, 2^f2, 2^f1 + 2^f2} for the lowest free qubits f1 < f2, and `bases` is the subspace
+// with those fixed to 0 (one 128-bit load per base). ok is false when too few qubits are free.
+struct base_groups {
+  subspace bases;
+  std::uint64_t g[4] = {0, 1, 2, 3};
+  bool contiguous = true;
+  bool ok = true;
+};
+inline base_groups group_bases(const subspace& s, unsigned per_vector) {
+  const unsigned need = per_vector == 4 ? 2 : 1;
+  if (s.run_log2() >= need) return {s, {0, 1, 2, 3}, true, true};
+  std::uint64_t bits[2] = {0, 0}, mask = s.fixed_mask;
+  unsigned found = 0;
+  for (unsigned f = 0; f < s.n && found < need; ++f)
+    if (!((s.fixed_mask >> f) & 1u)) {
+      bits[found++] = std::uint64_t{1} << f;
+      mask |= std::uint64_t{1} << f;
+    }
+  if (found < need) return {s, {0, 0, 0, 0}, false, false};
+  return {subspace(s.n, mask, s.fixed_value), {0, bits[0], bits[1], bits[0] | bits[1]}, false, true};
+}
+
+// Applies the job at the bases that are members [k0, k1) of s, N bases per vector (see
+// base_groups). A complex product is two sums, A = sum re(m) x and B = sum im(m) x, and
+// out = A + i B, where i B swaps each (re, im) pair and negates the new real part: one vector
+// per column instead of two. Everything it calls is inlined, so each ISA's copy below is
+// self-contained (a helper lambda would be compiled without the caller's ISA).
+template <class S, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim>
+[[gnu::always_inline]] inline void csr_range_body(const csr_job<S>& job, const subspace& s, const std::uint64_t* g,
                                                   std::uint64_t k0, std::uint64_t k1) {
   using R = typename scalar_traits<S>::real;
-  static_assert(scalar_traits<S>::is_complex);
-  using vec = typename lanes<double, 2>::type;
-  using stored = typename lanes<R, 2>::type;
-  using stored_half = typename lanes<R, 1>::type;
+  static_assert(scalar_traits<S>::is_complex && (N == 2 || N == 4));
+  using vec = typename lanes<double, N>::type;
+  using stored = typename lanes<R, N>::type;
+  using one = typename lanes<R, 1>::type;
   const csr_matrix& m = *job.m;
   const std::size_t dim = Dim ? Dim : m.dim;
   const std::uint64_t* off = job.offsets;
@@ -92,7 +140,8 @@ template <class S, bool Contiguous, bool RealMatrix, std::size_t Dim>
   const double* dense_im = job.dense_im;
   R* p = reinterpret_cast<R*>(job.a);
   vec x[vector_kernel_max_dim];
-  const vec sign = {-1.0, 1.0, -1.0, 1.0};
+  vec sign;
+  for (unsigned l = 0; l < 2 * N; ++l) sign[l] = (l % 2 == 0) ? -1.0 : 1.0;
 
   const std::uint64_t run = s.npos ? (std::uint64_t{1} << s.pos[0]) : s.count();
   const std::uint64_t fixed = s.fixed_mask;
@@ -100,16 +149,21 @@ template <class S, bool Contiguous, bool RealMatrix, std::size_t Dim>
   for (std::uint64_t k = k0; k < k1;) {
     const std::uint64_t first = free | s.fixed_value;
     const std::uint64_t len = std::min(run, k1 - k);
-    for (std::uint64_t b = first; b < first + len; b += Contiguous ? 2 : 1) {
+    for (std::uint64_t b = first; b < first + len; b += Contiguous ? N : 1) {
       for (std::size_t c = 0; c < dim; ++c) {
         stored v;
         if constexpr (Contiguous) {
           std::memcpy(&v, p + 2 * (b + off[c]), sizeof v);
         } else {
-          stored_half lo, hi;
-          std::memcpy(&lo, p + 2 * (b + off[c]), sizeof lo);
-          std::memcpy(&hi, p + 2 * (b + step + off[c]), sizeof hi);
-          v = __builtin_shufflevector(lo, hi, 0, 1, 2, 3);
+          one l[N];
+          for (unsigned j = 0; j < N; ++j) std::memcpy(&l[j], p + 2 * (b + g[j] + off[c]), sizeof l[j]);
+          if constexpr (N == 2) {
+            v = __builtin_shufflevector(l[0], l[1], 0, 1, 2, 3);
+          } else {
+            const auto lo = __builtin_shufflevector(l[0], l[1], 0, 1, 2, 3);
+            const auto hi = __builtin_shufflevector(l[2], l[3], 0, 1, 2, 3);
+            v = __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
+          }
         }
         if constexpr (std::is_same_v<R, double>)
           x[c] = v;
@@ -129,7 +183,12 @@ template <class S, bool Contiguous, bool RealMatrix, std::size_t Dim>
             if constexpr (!RealMatrix) acc_im += m.im[e] * x[m.col[e]];
           }
         }
-        if constexpr (!RealMatrix) acc += __builtin_shufflevector(acc_im, acc_im, 1, 0, 3, 2) * sign;
+        if constexpr (!RealMatrix) {
+          if constexpr (N == 2)
+            acc += __builtin_shufflevector(acc_im, acc_im, 1, 0, 3, 2) * sign;
+          else
+            acc += __builtin_shufflevector(acc_im, acc_im, 1, 0, 3, 2, 5, 4, 7, 6) * sign;
+        }
         stored out;
         if constexpr (std::is_same_v<R, double>)
           out = acc;
@@ -138,9 +197,17 @@ template <class S, bool Contiguous, bool RealMatrix, std::size_t Dim>
         if constexpr (Contiguous) {
           std::memcpy(p + 2 * (b + off[r]), &out, sizeof out);
         } else {
-          const stored_half lo = __builtin_shufflevector(out, out, 0, 1), hi = __builtin_shufflevector(out, out, 2, 3);
-          std::memcpy(p + 2 * (b + off[r]), &lo, sizeof lo);
-          std::memcpy(p + 2 * (b + step + off[r]), &hi, sizeof hi);
+          one l[N];
+          if constexpr (N == 2) {
+            l[0] = __builtin_shufflevector(out, out, 0, 1);
+            l[1] = __builtin_shufflevector(out, out, 2, 3);
+          } else {
+            l[0] = __builtin_shufflevector(out, out, 0, 1);
+            l[1] = __builtin_shufflevector(out, out, 2, 3);
+            l[2] = __builtin_shufflevector(out, out, 4, 5);
+            l[3] = __builtin_shufflevector(out, out, 6, 7);
+          }
+          for (unsigned j = 0; j < N; ++j) std::memcpy(p + 2 * (b + g[j] + off[r]), &l[j], sizeof l[j]);
         }
       }
     }
@@ -149,73 +216,87 @@ template <class S, bool Contiguous, bool RealMatrix, std::size_t Dim>
   }
 }
 
-template <class S, bool Contiguous, bool RealMatrix, std::size_t Dim>
-void csr_range_generic(const csr_job<S>& job, const subspace& s, std::uint64_t step, std::uint64_t k0,
+template <class S, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim>
+void csr_range_generic(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0,
                        std::uint64_t k1) {
-  csr_range_body<S, Contiguous, RealMatrix, Dim>(job, s, step, k0, k1);
+  csr_range_body<S, N, Contiguous, RealMatrix, Dim>(job, s, g, k0, k1);
 }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-template <class S, bool Contiguous, bool RealMatrix, std::size_t Dim>
-__attribute__((target("avx2,fma"))) void csr_range_avx2(const csr_job<S>& job, const subspace& s, std::uint64_t step,
-                                                        std::uint64_t k0, std::uint64_t k1) {
-  csr_range_body<S, Contiguous, RealMatrix, Dim>(job, s, step, k0, k1);
+#define QRM_HAS_CPU_DISPATCH 1
+template <class S, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim>
+__attribute__((target("avx2,fma"))) void csr_range_avx2(const csr_job<S>& job, const subspace& s,
+                                                        const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
+  csr_range_body<S, N, Contiguous, RealMatrix, Dim>(job, s, g, k0, k1);
+}
+template <class S, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim>
+__attribute__((target("avx512f"))) void csr_range_avx512(const csr_job<S>& job, const subspace& s,
+                                                         const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
+  csr_range_body<S, N, Contiguous, RealMatrix, Dim>(job, s, g, k0, k1);
 }
 inline bool cpu_has_avx2_fma() {
   static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
   return yes;
 }
+inline bool cpu_has_avx512f() {
+  static const bool yes = __builtin_cpu_supports("avx512f");
+  return yes;
+}
 #endif
 
-template <class S, bool Contiguous, std::size_t Dim>
-void csr_range_dim(const csr_job<S>& job, const subspace& s, std::uint64_t step, std::uint64_t k0, std::uint64_t k1) {
+// The level the kernels run at: the one asked for, or the best below it this CPU has.
+inline simd_level resolve_simd(simd_level asked) {
+#ifdef QRM_HAS_CPU_DISPATCH
+  if ((asked == simd_level::automatic || asked == simd_level::avx512) && cpu_has_avx512f()) return simd_level::avx512;
+  if (asked != simd_level::generic && cpu_has_avx2_fma()) return simd_level::avx2;
+#else
+  (void)asked;
+#endif
+  return simd_level::generic;
+}
+
+// Four bases per vector run only at avx512 (resolve_simd and the caller see to it).
+template <class S, unsigned N, bool Contiguous, std::size_t Dim>
+void csr_range_dim(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0,
+                   std::uint64_t k1) {
   const bool real = job.m->real;
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-  if (cpu_has_avx2_fma()) {
+#ifdef QRM_HAS_CPU_DISPATCH
+  if constexpr (N == 4) {
     if (real)
-      csr_range_avx2<S, Contiguous, true, Dim>(job, s, step, k0, k1);
+      csr_range_avx512<S, N, Contiguous, true, Dim>(job, s, g, k0, k1);
     else
-      csr_range_avx2<S, Contiguous, false, Dim>(job, s, step, k0, k1);
+      csr_range_avx512<S, N, Contiguous, false, Dim>(job, s, g, k0, k1);
+    return;
+  } else if (job.level == simd_level::avx2) {
+    if (real)
+      csr_range_avx2<S, N, Contiguous, true, Dim>(job, s, g, k0, k1);
+    else
+      csr_range_avx2<S, N, Contiguous, false, Dim>(job, s, g, k0, k1);
     return;
   }
 #endif
-  if (real)
-    csr_range_generic<S, Contiguous, true, Dim>(job, s, step, k0, k1);
-  else
-    csr_range_generic<S, Contiguous, false, Dim>(job, s, step, k0, k1);
+  if constexpr (N == 2) {
+    if (real)
+      csr_range_generic<S, N, Contiguous, true, Dim>(job, s, g, k0, k1);
+    else
+      csr_range_generic<S, N, Contiguous, false, Dim>(job, s, g, k0, k1);
+  }
 }
 
 // Dense matrices of 4, 8 or 16 rows run with unrolled loops; sparse ones (and 32, 64 rows) by
-// row lists. `s` is the subspace of bases as csr_pairs describes it.
-template <class S, bool Contiguous>
-void csr_range(const csr_job<S>& job, const subspace& s, std::uint64_t step, std::uint64_t k0, std::uint64_t k1) {
+// row lists. `s` and `g` are a base_groups' bases and offsets.
+template <class S, unsigned N, bool Contiguous>
+void csr_range(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
   if (job.dense_re) {
     switch (job.m->dim) {
-      case 4: return csr_range_dim<S, Contiguous, 4>(job, s, step, k0, k1);
-      case 8: return csr_range_dim<S, Contiguous, 8>(job, s, step, k0, k1);
-      case 16: return csr_range_dim<S, Contiguous, 16>(job, s, step, k0, k1);
+      case 2: return csr_range_dim<S, N, Contiguous, 2>(job, s, g, k0, k1);
+      case 4: return csr_range_dim<S, N, Contiguous, 4>(job, s, g, k0, k1);
+      case 8: return csr_range_dim<S, N, Contiguous, 8>(job, s, g, k0, k1);
+      case 16: return csr_range_dim<S, N, Contiguous, 16>(job, s, g, k0, k1);
       default: break;
     }
   }
-  csr_range_dim<S, Contiguous, 0>(job, s, step, k0, k1);
-}
-
-// How the bases of s pair up: neighbours when s comes in runs of two or more (step 1), else
-// b and b + 2^f for the lowest free qubit f, enumerated as the subspace with f also fixed to 0.
-// No pair when s has a single base (every qubit a target or control): step 0.
-struct csr_pairs {
-  subspace bases;
-  std::uint64_t step;
-  bool contiguous;
-};
-inline csr_pairs pair_bases(const subspace& s) {
-  if (s.run_log2() >= 1) return {s, 1, true};
-  for (unsigned f = 0; f < s.n; ++f)
-    if (!((s.fixed_mask >> f) & 1u)) {
-      const std::uint64_t step = std::uint64_t{1} << f;
-      return {subspace(s.n, s.fixed_mask | step, s.fixed_value), step, false};
-    }
-  return {s, 0, false};
+  csr_range_dim<S, N, Contiguous, 0>(job, s, g, k0, k1);
 }
 
 }  // namespace qrm::detail
