@@ -44,6 +44,8 @@ struct fusion_report {
   std::vector<std::size_t> blocks_by_width;  // [k]: fused blocks on k qubits
 };
 
+// The helpers below are templates only so that they are compiled where fuse() is used, not in
+// every unit that includes the umbrella header (see program.hpp).
 namespace detail {
 
 // The ops of one open block and the qubits they touch.
@@ -53,11 +55,13 @@ struct fusion_block {
 };
 
 // Local index of each block qubit: bit j of a matrix index is qubits[j] (sorted ascending).
+template <int = 0>
 inline unsigned local_bit(const std::vector<qubit_index>& qubits, qubit_index q) {
   return static_cast<unsigned>(std::lower_bound(qubits.begin(), qubits.end(), q) - qubits.begin());
 }
 
 // Applies a gate1 op (with its controls) to every column of m, in the block's local bits.
+template <int = 0>
 inline void fold_gate1(dense_matrix& m, const op::gate1_op& o, const std::vector<qubit_index>& qubits) {
   const std::size_t dim = m.dim;
   const std::size_t t = std::size_t{1} << local_bit(qubits, o.target);
@@ -79,6 +83,7 @@ inline void fold_gate1(dense_matrix& m, const op::gate1_op& o, const std::vector
 }
 
 // Applies a unitary op (with its controls) to every column of m, in the block's local bits.
+template <int = 0>
 inline void fold_unitary(dense_matrix& m, const op::unitary_op& o, const std::vector<qubit_index>& qubits) {
   const std::size_t dim = m.dim, sub = o.matrix.dim;
   std::vector<std::size_t> offset(sub, 0);
@@ -109,6 +114,7 @@ inline void fold_unitary(dense_matrix& m, const op::unitary_op& o, const std::ve
 }
 
 // Qubits of a fusable op (gate1 or unitary, controls included), or empty when it cannot join.
+template <int = 0>
 inline std::vector<qubit_index> fusable_qubits(const op::any& o) {
   if (o.index() != 0 && o.index() != 1) return {};
   std::vector<qubit_index> q = op_qubits(o);
@@ -116,6 +122,7 @@ inline std::vector<qubit_index> fusable_qubits(const op::any& o) {
   return q;
 }
 
+template <int = 0>
 inline std::size_t control_count(const op::any& o) {
   return visit_op(o, [](const auto& x) { return x.controls.size(); });
 }

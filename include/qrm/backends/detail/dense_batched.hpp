@@ -106,6 +106,7 @@ struct base_groups {
   bool contiguous = true;
   bool ok = true;
 };
+template <int = 0>
 inline base_groups group_bases(const subspace& s, unsigned per_vector) {
   const unsigned need = per_vector == 4 ? 2 : 1;
   if (s.run_log2() >= need) return {s, {0, 1, 2, 3}, true, true};
@@ -245,6 +246,7 @@ inline bool cpu_has_avx512f() {
 #endif
 
 // The level the kernels run at: the one asked for, or the best below it this CPU has.
+template <int = 0>
 inline simd_level resolve_simd(simd_level asked) {
 #ifdef QRM_HAS_CPU_DISPATCH
   if ((asked == simd_level::automatic || asked == simd_level::avx512) && cpu_has_avx512f()) return simd_level::avx512;

@@ -379,6 +379,7 @@ inline std::vector<std::uint64_t> target_offsets(std::span<const qubit_index> ta
   return off;
 }
 
+template <int = 0>
 inline csr_matrix to_csr(const dense_matrix& m) {
   csr_matrix r;
   r.dim = m.dim;
