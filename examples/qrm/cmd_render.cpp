@@ -1,7 +1,7 @@
 // qrm render: the paper's images. A 2D scene gives its light map (Fig. 4): the faithful circuit
 // per cell and channel, estimated with an amplitude estimator (default FAE, maxiter 5, with
 // rescaling, as the paper) on the fully simulated circuit, next to the exact and classical maps.
-// A 3D scene (cornell, spheres, cornell_mirror, cornell_glossy, or a file) gives images by the exact path sum, Monte Carlo path
+// A 3D scene (cornell, spheres, cornell_mirror, cornell_glossy, cornell_fog, or a file) gives images by the exact path sum, Monte Carlo path
 // tracing, the paper's emulator (K sampled paths + amplitude estimation) and, on request, the
 // fully quantum walk circuit per pixel.
 #include <cstdio>
@@ -17,8 +17,8 @@ flag_table render_flags() {
   const char* img = "3D images";
   const char* run = "run and output";
   flag_table f = {
-      {"scene", "NAME|FILE", "paper_8x8", "paper_4x4, paper_8x8 (2D light maps), cornell, spheres, cornell_mirror (a mirror sphere), cornell_glossy (a glossy one, lobe 2) (3D), or a scene file", scene},
-      {"voxels", "N", "8", "cornell, spheres, cornell_mirror, cornell_glossy: N^3 voxels, a power of two in 4..256", scene},
+      {"scene", "NAME|FILE", "paper_8x8", "paper_4x4, paper_8x8 (2D light maps), cornell, spheres, cornell_mirror (a mirror sphere), cornell_glossy (a glossy one, lobe 2), cornell_fog (thin fog in the room) (3D), or a scene file", scene},
+      {"voxels", "N", "8", "cornell, spheres, cornell_mirror, cornell_glossy, cornell_fog: N^3 voxels, a power of two in 4..256", scene},
       {"steps", "S", "3 in 2D, 6 in 3D", "walk steps (1..16): voxels crossed (voxel march) or bounces (surface)", scene},
       {"march", "voxel|surface", "the scene's, else surface",
        "how the walk moves: voxel = one voxel per step (the paper's Section 4; paper_4x4 and paper_8x8 ask for it), "

@@ -161,17 +161,19 @@ inline bool render_settings::quantum_run() const { return wants(*this, "quantum"
 
 // The built-in 3D scenes, sized by --voxels.
 inline bool builtin_3d_scene(const std::string& name) {
-  return name == "cornell" || name == "spheres" || name == "cornell_mirror" || name == "cornell_glossy";
+  return name == "cornell" || name == "spheres" || name == "cornell_mirror" || name == "cornell_glossy" ||
+         name == "cornell_fog";
 }
 
 // The scene a --scene value names: built-in 2D scenes, the 3D Cornell box, two spheres, the
-// Cornell box with a mirror or a glossy sphere (at --voxels), or a scene file.
+// Cornell box with a mirror or a glossy sphere or with fog (at --voxels), or a scene file.
 inline qrm::scene load_render_scene(const render_settings& s) {
   if (s.scene == "cornell") return qrm::render::cornell_box(s.voxels);
   if (s.scene == "spheres") return qrm::render::two_spheres(s.voxels);
   if (s.scene == "cornell_mirror") return qrm::render::cornell_mirror(s.voxels);
   if (s.scene == "cornell_glossy") return qrm::render::cornell_glossy(s.voxels, 2.0);
-  return scene_from_arg(s.scene, "paper_4x4, paper_8x8, cornell, spheres, cornell_mirror, cornell_glossy");
+  if (s.scene == "cornell_fog") return qrm::render::cornell_fog(s.voxels);
+  return scene_from_arg(s.scene, "paper_4x4, paper_8x8, cornell, spheres, cornell_mirror, cornell_glossy, cornell_fog");
 }
 
 // Flags that do not apply to the scene or the methods chosen are errors, never silently ignored.
@@ -186,7 +188,7 @@ inline void check_render_flags_apply(const args& a, const render_settings& s, co
   }
   if (a.has("voxels") && !builtin_3d_scene(s.scene))
     throw usage_error("--voxels sets the size of the built-in 3D scenes (cornell, spheres, cornell_mirror, "
-                      "cornell_glossy); the scene file " +
+                      "cornell_glossy, cornell_fog); the scene file " +
                       s.scene + " has its own size (" + std::to_string(sc.size()) + ")");
   const bool sampled = wants(s, "mc") || wants(s, "emulated");
   const bool estimated = wants(s, "emulated") || wants(s, "quantum");

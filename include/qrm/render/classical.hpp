@@ -5,8 +5,9 @@
 // A pixel: the camera ray's first hit (render/dda.hpp) starts a walk at the hit voxel's centre,
 // moving in the model's direction nearest the ray among those the voxel's coin treats as
 // incoming (so the coin scatters the walker out of the surface; a Lambertian, specular or glossy
-// voxel's incoming directions are split_hemisphere(...).incoming; a boundary voxel uses the
-// nearest direction of all).
+// voxel's incoming directions are split_hemisphere(...).incoming; a boundary or medium voxel
+// uses the nearest direction of all: a camera ray entering fog starts its walk in the first fog
+// voxel, going on along the ray).
 // Its radiance, per channel, is
 //     L = Le(hit) + rho(hit) * E[f],
 // E[f] the walk's path sum for `steps` steps (qrm::path_sum). The walk's f does not include the

@@ -190,9 +190,17 @@ inline walk_tables build_walk_tables(const walk_model& m, const walk_start& star
   t.le_entries.resize(s);
   t.rho_entries.resize(s > 0 ? s - 1 : 0);
   std::vector<std::uint32_t> identity_slot;  // lazily added identity coin, for pruning::none
+  // A start in a medium with every direction (a light-map cell of fog): the uniform
+  // superposition stands for light arriving from every direction, the uniform mixture, which
+  // any coin maps to itself (a unitary's rows have unit norm, so every first direction stays
+  // 1/D likely), so the classical references are the same with or without the first coin. Run
+  // on the superposition, though, the dense medium coin would let the unrecorded start
+  // directions interfere; so the first step applies no coin at the start voxel.
+  const std::size_t start_voxel = m.voxel_of(t.start_pos);
+  const bool skip_start_coin = start.direction < 0 && sc[start_voxel].kind == material::medium;
   for (unsigned i = 0; i < s; ++i) {
     for (std::size_t v : coin_voxels[i]) {
-      const int c = m.coin_of(v);
+      const int c = i == 0 && skip_start_coin && v == start_voxel ? -1 : m.coin_of(v);
       if (c >= 0) {
         t.coin_entries[i].push_back({v, static_cast<std::uint32_t>(c)});
       } else if (keep_identities) {

@@ -13,6 +13,8 @@
 //               (specular_coin below says how a mirrored direction outside the set is snapped).
 //   glossy      a lobe around the mirror direction: G = B S, S the specular permutation and
 //               B = exp(-i tau L) a unitary acting on the outgoing hemisphere only (glossy_coin).
+//   medium      participating media: pass straight on with probability 1 - density, else scatter
+//               isotropically to the other directions (medium_coin).
 // Direction-register states beyond the set's D directions are left alone (identity).
 #pragma once
 
@@ -444,5 +446,184 @@ inline dense_matrix glossy_coin(const direction_set& s, const vec3& normal, doub
   return u;
 }
 
+
+namespace detail {
+// A conference matrix of order n: C with zero diagonal, entries +-1 off it, C C^T = (n - 1) I;
+// symmetric or antisymmetric. Built by Paley's construction when q = n - 1 is a prime power
+// (C = [[0, 1^T], [+-1, Q]], Q_ab = chi(a - b) over GF(q), chi the quadratic character; q = 1
+// mod 4 makes it symmetric, q = 3 mod 4 antisymmetric), else, for an antisymmetric one, by
+// doubling one of order n / 2: [[C, C + I], [C - I, -C]]. Empty if neither applies.
+struct conference_matrix {
+  std::size_t n = 0;
+  bool symmetric = false;
+  std::vector<int> c;  // row-major n x n
+};
+
+// q = p^k with p prime, or (0, 0).
+inline std::pair<unsigned, unsigned> prime_power(unsigned q) {
+  if (q < 2) return {0, 0};
+  unsigned p = 2;
+  while (q % p != 0) ++p;
+  unsigned k = 0, r = q;
+  while (r % p == 0) {
+    r /= p;
+    ++k;
+  }
+  return r == 1 ? std::pair{p, k} : std::pair{0u, 0u};
+}
+
+// The quadratic character of GF(p^k) on the elements 0..q-1 (element = digits base p, the
+// coefficients of a polynomial mod a monic irreducible of degree k, found by search: the first
+// monic polynomial under which every nonzero element has an inverse).
+inline std::vector<int> quadratic_character(unsigned p, unsigned k) {
+  unsigned q = 1;
+  for (unsigned i = 0; i < k; ++i) q *= p;
+  auto digits = [&](unsigned a) {
+    std::vector<unsigned> d(k);
+    for (unsigned i = 0; i < k; ++i, a /= p) d[i] = a % p;
+    return d;
+  };
+  auto mul = [&](unsigned a, unsigned b, const std::vector<unsigned>& modulus) {  // modulus: x^k = -sum m_i x^i
+    const auto x = digits(a), y = digits(b);
+    std::vector<unsigned> prod(2 * k, 0);
+    for (unsigned i = 0; i < k; ++i)
+      for (unsigned j = 0; j < k; ++j) prod[i + j] = (prod[i + j] + x[i] * y[j]) % p;
+    for (unsigned t = 2 * k - 1; t >= k && t > 0; --t) {
+      const unsigned top = prod[t];
+      prod[t] = 0;
+      for (unsigned i = 0; i < k; ++i) prod[t - k + i] = (prod[t - k + i] + (p - modulus[i]) * top) % p;
+    }
+    unsigned r = 0;
+    for (unsigned i = k; i-- > 0;) r = r * p + prod[i];
+    return r;
+  };
+  std::vector<unsigned> modulus(k, 0);
+  for (unsigned m = 0; m < q; ++m) {
+    for (unsigned i = 0, r = m; i < k; ++i, r /= p) modulus[i] = r % p;
+    bool field = true;
+    for (unsigned a = 1; a < q && field; ++a) {
+      bool inverse = false;
+      for (unsigned b = 1; b < q && !inverse; ++b) inverse = mul(a, b, modulus) == 1;
+      field = inverse;
+    }
+    if (field) break;
+  }
+  std::vector<int> chi(q, -1);
+  chi[0] = 0;
+  for (unsigned y = 1; y < q; ++y) chi[mul(y, y, modulus)] = 1;
+  return chi;
+}
+
+inline conference_matrix make_conference_matrix(std::size_t n) {
+  conference_matrix r;
+  if (n < 2) return r;
+  const auto pk = prime_power(static_cast<unsigned>(n - 1));
+  const unsigned p = pk.first, k = pk.second;  // not a structured binding: the lambda below captures them
+  if (p != 0) {
+    const unsigned q = static_cast<unsigned>(n - 1);
+    const std::vector<int> chi = quadratic_character(p, k);
+    auto sub = [&](unsigned a, unsigned b) {  // a - b digit-wise mod p
+      unsigned out = 0, scale = 1;
+      for (unsigned i = 0; i < k; ++i, a /= p, b /= p, scale *= p) out += ((a % p + p - b % p) % p) * scale;
+      return out;
+    };
+    r.n = n;
+    r.symmetric = q % 4 == 1;  // chi(-1) = 1 exactly when q = 1 mod 4 (q odd; q even fails the check below)
+    r.c.assign(n * n, 0);
+    for (unsigned a = 0; a < q; ++a) {
+      r.c[a + 1] = 1;
+      r.c[(a + 1) * n] = r.symmetric ? 1 : -1;
+      for (unsigned b = 0; b < q; ++b) r.c[(a + 1) * n + b + 1] = chi[sub(a, b)];
+    }
+  } else if (n % 2 == 0) {
+    const conference_matrix h = make_conference_matrix(n / 2);
+    if (h.n == 0 || h.symmetric) return r;
+    const std::size_t m = n / 2;
+    r.n = n;
+    r.symmetric = false;
+    r.c.assign(n * n, 0);
+    for (std::size_t i = 0; i < m; ++i)
+      for (std::size_t j = 0; j < m; ++j) {
+        const int c = h.c[i * m + j], id = i == j ? 1 : 0;
+        r.c[i * n + j] = c;
+        r.c[i * n + j + m] = c + id;
+        r.c[(i + m) * n + j] = c - id;
+        r.c[(i + m) * n + j + m] = -c;
+      }
+  }
+  if (r.n == 0) return r;
+  // Checked rather than trusted (and Paley's Q fails it for even q): C C^T = (n - 1) I, zero
+  // diagonal, nonzero elsewhere, the stated symmetry.
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) {
+      long dotp = 0;
+      for (std::size_t t = 0; t < n; ++t) dotp += long{r.c[i * n + t]} * r.c[j * n + t];
+      if (dotp != (i == j ? static_cast<long>(n - 1) : 0L) || (i == j) != (r.c[i * n + j] == 0) ||
+          r.c[i * n + j] != (r.symmetric ? 1 : -1) * r.c[j * n + i])
+        return conference_matrix{};  // not a conference matrix (e.g. Paley with q even)
+    }
+  return r;
+}
+}  // namespace detail
+
+// medium_isotropic_limit(D): the largest density medium_coin reaches on a set of D directions:
+// 1 when a conference matrix of order D exists (D = 6, 8, 14, 26, 32, 64, every set qrm offers
+// but golden-15), else 4 (D - 1) / D^2 (0.249 for D = 15).
+template <int = 0>
+inline double medium_isotropic_limit(std::size_t count) {
+  return detail::make_conference_matrix(count).n != 0
+             ? 1.0
+             : 4.0 * static_cast<double>(count - 1) / (static_cast<double>(count) * static_cast<double>(count));
+}
+
+// medium_coin(s, density): a participating medium's coin. With p = density, every direction d
+// goes on straight with probability 1 - p and to each other direction with p / (D - 1)
+// (isotropic scattering), |U_dd|^2 = 1 - p, |U_ed|^2 = p / (D - 1), exactly (up to rounding).
+//   Conference construction (D = 6, 8, 14, 26, 32, 64 and any D with a conference matrix):
+//     U = a I + i b H,  a = sqrt(1 - p), b = sqrt(p), H = C / sqrt(D - 1) (C symmetric) or
+//     i C / sqrt(D - 1) (C antisymmetric), C a conference matrix of order D. H is Hermitian
+//     with H^2 = I, so U^dagger U = (a^2 + b^2) I = I for every p in [0, 1]; the diagonal of H
+//     is 0 and its other entries have modulus 1 / sqrt(D - 1). For antisymmetric C (D = 8, 32,
+//     64: Paley with q = 3 mod 4, or doubling) U = a I - b C / sqrt(D - 1) is real; for
+//     symmetric C (D = 6, 14, 26) it is complex and needs a complex backend.
+//   Otherwise (odd D: a Hermitian H with H^2 = I and zero diagonal has trace 0, so D even):
+//     U = I + beta J on the D directions (J all ones), |beta| = r = sqrt(p / (D - 1)) and
+//     arg beta = psi with cos psi = -D r / 2: U^dagger U = I + (2 r cos psi + D r^2) J = I. It
+//     needs D r / 2 <= 1, i.e. p <= 4 (D - 1) / D^2 (0.249 for golden-15); a larger density
+//     throws (use an even set).
+// p = 0 is the identity exactly. Register states beyond D are left alone.
+template <int = 0>
+inline dense_matrix medium_coin(const direction_set& s, double density) {
+  const std::size_t D = s.size(), dim = std::size_t{1} << s.bits();
+  if (!(density >= 0.0 && density <= 1.0))
+    throw std::invalid_argument("medium_coin: density must be in [0, 1], got " + std::to_string(density));
+  dense_matrix u(dim);
+  for (std::size_t d = 0; d < dim; ++d) u(d, d) = 1.0;
+  if (density == 0.0 || D < 2) return u;
+  const detail::conference_matrix c = detail::make_conference_matrix(D);
+  if (c.n == D) {
+    const double a = std::sqrt(1.0 - density), h = std::sqrt(density / static_cast<double>(D - 1));
+    for (std::size_t e = 0; e < D; ++e)
+      for (std::size_t d = 0; d < D; ++d) {
+        const double ced = static_cast<double>(c.c[e * D + d]);
+        if (e == d)
+          u(e, d) = a;
+        else
+          u(e, d) = c.symmetric ? complex(0.0, h * ced) : complex(-h * ced, 0.0);
+      }
+    return u;
+  }
+  const double limit = medium_isotropic_limit(D);
+  if (density > limit)
+    throw std::invalid_argument("medium_coin: density " + std::to_string(density) + " is above " +
+                                std::to_string(limit) + ", the most this isotropic coin reaches on " +
+                                std::to_string(D) + " directions (odd D has no conference matrix); use an even set");
+  const double r = std::sqrt(density / static_cast<double>(D - 1));
+  const double cos_psi = std::max(-1.0, -static_cast<double>(D) * r / 2.0);
+  const complex beta = r * complex(cos_psi, std::sqrt(std::max(0.0, 1.0 - cos_psi * cos_psi)));
+  for (std::size_t e = 0; e < D; ++e)
+    for (std::size_t d = 0; d < D; ++d) u(e, d) = (e == d ? complex(1.0) : complex{}) + beta;
+  return u;
+}
 
 }  // namespace qrm

@@ -16,6 +16,8 @@
 //            (parallel rays from different voxels reach the same surface), but from a centre c,
 //            k displacements and the snap land at c + delta(k, d) with delta depending only on
 //            (k, d), so (landing voxel, d, k) determines c and the step stays a permutation.
+// A medium voxel (participating media) is not air, so the surface march stops in it like at a
+// surface: a walker crossing fog advances one voxel per step, fog costs steps.
 #pragma once
 
 #include <algorithm>
@@ -66,12 +68,13 @@ class walk_model {
     if (s.dims() == 2 && dirs_.fractional_bits != 0)
       throw std::invalid_argument("walk_model: 2D walks move whole cells (0 fractional bits)");
     coin_of_voxel_.assign(s.voxel_count(), -1);
-    std::map<std::tuple<int, double, double, double, int, double>, int> seen;
+    std::map<std::tuple<int, double, double, double, int, double, double>, int> seen;
     for (std::size_t i = 0; i < s.voxel_count(); ++i) {
       const voxel& v = s[i];
       if (v.kind == material::air) continue;
       const auto key =
-          std::make_tuple(static_cast<int>(v.kind), v.normal[0], v.normal[1], v.normal[2], v.normal_index, v.lobe);
+          std::make_tuple(static_cast<int>(v.kind), v.normal[0], v.normal[1], v.normal[2], v.normal_index, v.lobe,
+                          v.density);
       auto it = seen.find(key);
       if (it == seen.end()) {
         it = seen.emplace(key, static_cast<int>(coins_.size())).first;
@@ -166,13 +169,14 @@ class walk_model {
     return r;
   }
 
-  // The start of a light-map sample at a voxel's centre: in air, every direction; on a
-  // surface, the direction that points into it (2D: (normal + 4) mod 8, as the paper).
+  // The start of a light-map sample at a voxel's centre: in air or a medium (no normal), every
+  // direction; on a surface, the direction that points into it (2D: (normal + 4) mod 8, as the
+  // paper).
   walk_start light_map_start(const std::array<unsigned, 3>& v) const {
     walk_start s;
     s.voxel = v;
     const voxel& vox = scene_->at(v[0], v[1], v[2]);
-    if (vox.kind == material::air) return s;
+    if (vox.kind == material::air || vox.kind == material::medium) return s;
     if (dims() == 2) {
       s.direction = (vox.normal_index + 4) % 8;
     } else {
@@ -231,6 +235,7 @@ class walk_model {
       case material::boundary: return boundary_coin(dirs_);
       case material::specular: return specular_coin(dirs_, mirror_normal(v));
       case material::glossy: return glossy_coin(dirs_, mirror_normal(v), v.lobe);
+      case material::medium: return medium_coin(dirs_, v.density);
       case material::air: break;
     }
     throw std::logic_error("make_coin: air has no coin");

@@ -17,7 +17,7 @@
 
 namespace qrm {
 
-enum class material : unsigned char { air, lambertian, boundary, specular, glossy };
+enum class material : unsigned char { air, lambertian, boundary, specular, glossy, medium };
 
 constexpr const char* material_name(material m) {
   switch (m) {
@@ -26,6 +26,7 @@ constexpr const char* material_name(material m) {
     case material::boundary: return "boundary";
     case material::specular: return "specular";
     case material::glossy: return "glossy";
+    case material::medium: return "medium";
   }
   return "?";
 }
@@ -79,6 +80,11 @@ struct voxel {
   // Glossy voxels: the lobe parameter tau of glossy_coin (walk/coins.hpp), in [0,
   // glossy_lobe_max]; 0 for every other kind.
   double lobe = 0;
+  // Medium voxels (participating media, medium_coin in walk/coins.hpp): the probability, in
+  // [0, 1], that a walker crossing the voxel scatters there (isotropically); 0 for every other
+  // kind. A medium has no normal; its reflectance is the fraction of light a walker keeps per
+  // visit, scatter or not (absorption), sampled like a surface's rho.
+  double density = 0;
   bool operator==(const voxel&) const = default;
 };
 
@@ -194,7 +200,12 @@ class scene {
                                     (v.kind == material::glossy ? " outside [0, " + std::to_string(static_cast<int>(glossy_lobe_max)) + "] (the glossy lobe parameter)"
                                                                 : " on a " + std::string(material_name(v.kind)) +
                                                                       " voxel (only glossy voxels have a lobe)"));
-      if (v.kind == material::air) continue;
+      if (v.kind == material::medium ? !(v.density >= 0.0 && v.density <= 1.0) : v.density != 0.0)
+        throw std::invalid_argument(where + ": density " + std::to_string(v.density) +
+                                    (v.kind == material::medium ? " outside [0, 1] (the medium's scattering probability)"
+                                                                : " on a voxel of kind " + std::string(material_name(v.kind)) +
+                                                                      " (only medium voxels have a density)"));
+      if (v.kind == material::air || v.kind == material::medium) continue;  // no normal
       if (dims_ == 2 && (v.normal_index < 0 || v.normal_index > 7))
         throw std::invalid_argument(where + ": a " + material_name(v.kind) + " voxel needs a normal index 0..7, got " +
                                     std::to_string(v.normal_index));

@@ -9,14 +9,19 @@
 //   kinds                         2D only: N rows (y = 0 first) of N tokens (x = 0 first):
 //   B3 L4 ... B5                    .  air, L<n> Lambertian, B<n> boundary, S<n> specular,
 //   ...                             n = normal index 0..7 (0 N, 1 NE, 2 E, ..., 7 NW); glossy
-//                                   cells need a lobe, so they are voxel lines, not grid cells
+//                                   and medium cells need a lobe or a density, so they are
+//                                   voxel lines, not grid cells
 //   emission                      2D only: N rows of N colour names
 //   reflectance                   2D only: N rows of N colour names
-//   voxel X Y [Z] KIND [NORMAL] [lobe T] [rho C] [le C]
-//   fill X0 Y0 [Z0] X1 Y1 [Z1] KIND [NORMAL] [lobe T] [rho C] [le C]     (inclusive box)
+//   voxel X Y [Z] KIND [NORMAL] [lobe T | density P] [rho C] [le C]
+//   fill X0 Y0 [Z0] X1 Y1 [Z1] KIND [NORMAL] [lobe T | density P] [rho C] [le C]  (inclusive box)
 //                                 (rho is required for non-air voxels; le defaults to 0; lobe
 //                                 is required for glossy voxels and refused for other kinds:
-//                                 T in [0, 4], glossy_coin's lobe parameter, 0 = a mirror)
+//                                 T in [0, 4], glossy_coin's lobe parameter, 0 = a mirror;
+//                                 density is required for medium voxels (KIND M, no NORMAL)
+//                                 and refused for other kinds: P in [0, 1], the probability of
+//                                 scattering per voxel crossed; a medium's rho is the fraction
+//                                 of light kept per voxel crossed, scatter or not)
 //   march voxel|surface           optional: the walk this scene is made for: voxel (the paper's
 //                                 one voxel per step) or surface (one bounce per step); the CLI
 //                                 uses it unless --march says otherwise (default surface)
@@ -30,7 +35,7 @@
 //                                 it, 3D files of size >= 8 use the Cornell box's camera: at the
 //                                 open -z side looking along +z, +y up, +x on the image's left.
 //
-// KIND is air, L, B, S or G (or lambertian, boundary, specular, glossy); NORMAL is an index 0..7 in 2D
+// KIND is air, L, B, S, G or M (or lambertian, boundary, specular, glossy, medium); NORMAL is an index 0..7 in 2D
 // and three numbers in 3D (normalised on reading); a colour C is a name or three numbers.
 // Reflectance must lie in [0, 1]; emission must be finite and >= 0 (above 1 is fine: the walk
 // circuit divides by the scene's largest emission and the estimate is scaled back). Every
@@ -219,7 +224,7 @@ class scene_parser {
   }
   // KIND [NORMAL]: sets kind and normal; returns the next token index.
   std::size_t read_kind(const std::vector<std::string>& t, std::size_t i, unsigned dims, voxel& v) const {
-    if (i >= t.size()) fail("missing voxel kind (air, L, B, S or G)");
+    if (i >= t.size()) fail("missing voxel kind (air, L, B, S, G or M)");
     const std::string& k = t[i++];
     if (k == "air" || k == ".") {
       v.kind = material::air;
@@ -229,7 +234,10 @@ class scene_parser {
     else if (k == "B" || k == "boundary") v.kind = material::boundary;
     else if (k == "S" || k == "specular") v.kind = material::specular;
     else if (k == "G" || k == "glossy") v.kind = material::glossy;
-    else fail("unknown voxel kind '" + k + "' (air, L, B, S or G)");
+    else if (k == "M" || k == "medium") {
+      v.kind = material::medium;
+      return i;  // isotropic: no normal
+    } else fail("unknown voxel kind '" + k + "' (air, L, B, S, G or M)");
     if (dims == 2) {
       if (i >= t.size()) fail("missing normal index after kind " + k);
       set_normal_2d(v, integer(t[i++], "normal"));
@@ -306,7 +314,7 @@ class scene_parser {
     }
     voxel v;
     std::size_t i = read_kind(t, 1 + ncoord, d, v);
-    bool rho_set = false, lobe_set = false;
+    bool rho_set = false, lobe_set = false, density_set = false;
     while (i < t.size()) {
       const std::string key = t[i++];
       if (key == "lobe") {
@@ -318,6 +326,16 @@ class scene_parser {
           fail("lobe " + t[i] + " outside [0, 4] (the glossy lobe parameter; 0 is a mirror)");
         ++i;
         lobe_set = true;
+      } else if (key == "density") {
+        if (v.kind != material::medium)
+          fail("'density' is a medium's scattering probability; a " + std::string(material_name(v.kind)) +
+               " voxel has none");
+        if (i >= t.size()) fail("'density' needs a number in [0, 1]");
+        v.density = number(t[i], "density");
+        if (!(v.density >= 0.0 && v.density <= 1.0))
+          fail("density " + t[i] + " outside [0, 1] (the probability of scattering per voxel crossed)");
+        ++i;
+        density_set = true;
       } else if (key == "rho") {
         v.reflectance = read_color(t, i, "rho");
         check_reflectance(v.reflectance);
@@ -326,11 +344,13 @@ class scene_parser {
         v.emission = read_color(t, i, "le");
         check_emission(v.emission);
       } else {
-        fail("unexpected '" + key + "' (expected rho, le or, for glossy voxels, lobe)");
+        fail("unexpected '" + key + "' (expected rho, le or, for glossy voxels, lobe, for medium voxels, density)");
       }
     }
     if (!rho_set && v.kind != material::air) fail("a " + std::string(material_name(v.kind)) + " voxel needs 'rho C'");
     if (!lobe_set && v.kind == material::glossy) fail("a glossy voxel needs 'lobe T' (T in [0, 4]; 0 is a mirror)");
+    if (!density_set && v.kind == material::medium)
+      fail("a medium voxel needs 'density P' (P in [0, 1]: the probability of scattering per voxel crossed)");
     long long lo[3] = {c[0], c[1], d == 3 ? c[2] : 0}, hi[3] = {lo[0], lo[1], lo[2]};
     if (box) {
       for (unsigned a = 0; a < d; ++a) hi[a] = c[d + a];
@@ -372,6 +392,9 @@ class scene_parser {
           else if (k == 'G')
             fail("glossy cell '" + tok + "' at x = " + std::to_string(x) +
                  ": a grid cell has no room for the lobe; use a line 'voxel X Y G N lobe T rho C'");
+          else if (k == 'M')
+            fail("medium cell '" + tok + "' at x = " + std::to_string(x) +
+                 ": a grid cell has no room for the density; use a line 'voxel X Y M density P rho C'");
           else fail("unknown cell '" + tok + "' at x = " + std::to_string(x) + " (expected ., L<n>, B<n> or S<n>)");
           set_normal_2d(v, integer(tok.substr(1), "normal of cell '" + tok + "'"));
         } else if (key == "emission") {
@@ -437,14 +460,16 @@ inline std::string format_scene(const scene& s) {
       case material::boundary: out += " B"; break;
       case material::specular: out += " S"; break;
       case material::glossy: out += " G"; break;
+      case material::medium: out += " M"; break;
     }
-    if (v.kind != material::air) {
+    if (v.kind != material::air && v.kind != material::medium) {
       if (s.dims() == 2)
         out += " " + std::to_string(v.normal_index);
       else
         out += " " + format_double(v.normal[0]) + " " + format_double(v.normal[1]) + " " + format_double(v.normal[2]);
     }
     if (v.kind == material::glossy) out += " lobe " + format_double(v.lobe);
+    if (v.kind == material::medium) out += " density " + format_double(v.density);
     out += " rho " + format_double(v.reflectance.r) + " " + format_double(v.reflectance.g) + " " +
            format_double(v.reflectance.b);
     out += " le " + format_double(v.emission.r) + " " + format_double(v.emission.g) + " " + format_double(v.emission.b);
