@@ -156,6 +156,49 @@ TEST_CASE("complex<float> single-qubit gates on large states take the matrix ker
   }
 }
 
+TEST_CASE_TEMPLATE("norm drift over 10^5 random gates, fused", S, std::complex<float>, std::complex<double>) {
+  // The kernel tests' drift case (kernel_cases.hpp: 1e5 gates of 1 and 2 qubits, controls of
+  // either value) fused to blocks of 3 qubits, so the matrix kernel's rounding is what
+  // accumulates. Bars as there: each op rounds every amplitude once (eps 6e-8 float, 1.1e-16
+  // double), a random walk over ~4e4 fused ops: ~1e-5 and ~1e-13; 1e-4 and 1e-10 leave room
+  // (measured: 4.7e-7 and 3.7e-13).
+  qrm::rng g(15);
+  const std::size_t n = 8;
+  const bool complex_values = true;
+  std::vector<qrm::gate1> pool;
+  std::vector<qrm::dense_matrix> two;
+  for (int i = 0; i < 16; ++i) pool.push_back(random_gate1_unitary(g, complex_values));
+  for (int i = 0; i < 4; ++i) two.push_back(random_unitary(2, g, complex_values));
+  qrm::program p(n);
+  for (int i = 0; i < 100000; ++i) {
+    const auto t = static_cast<qubit_index>(g.below(n));
+    const auto other = static_cast<qubit_index>((t + 1 + g.below(n - 1)) % n);
+    switch (g.below(3)) {
+      case 0: p.apply_gate1(pool[g.below(pool.size())], t, {}); break;
+      case 1: {
+        const std::vector<control> cs = {{other, g.below(2) == 1}};
+        p.apply_gate1(pool[g.below(pool.size())], t, cs);
+        break;
+      }
+      default: {
+        const std::vector<qubit_index> ts = {t, other};
+        p.apply_unitary(two[g.below(two.size())], ts, {});
+      }
+    }
+  }
+  qrm::fusion_report rep;
+  const qrm::program f = qrm::fuse(p, {3}, &rep);
+  qrm::dense_options o;
+  o.threads = 1;
+  qrm::state_vector<S> b(n, o);
+  qrm::run(b, f);
+  const double drift = std::abs(b.norm_squared() - 1.0);
+  const double bar = std::is_same_v<S, std::complex<float>> ? 1e-4 : 1e-10;
+  MESSAGE(std::string(qrm::detail::scalar_name<S>()) << ": norm drift after 1e5 gates fused into " << rep.ops_out << " ops: " << drift);
+  CHECK(rep.fused_blocks > 10000);
+  CHECK(drift <= bar);
+}
+
 TEST_CASE("a fused block never exceeds its width, and whatever passes through is unchanged") {
   qrm::rng g(7);
   for (unsigned k = 1; k <= 6; ++k) {

@@ -460,6 +460,7 @@ struct conference_matrix {
 };
 
 // q = p^k with p prime, or (0, 0).
+template <int = 0>
 inline std::pair<unsigned, unsigned> prime_power(unsigned q) {
   if (q < 2) return {0, 0};
   unsigned p = 2;
@@ -475,6 +476,7 @@ inline std::pair<unsigned, unsigned> prime_power(unsigned q) {
 // The quadratic character of GF(p^k) on the elements 0..q-1 (element = digits base p, the
 // coefficients of a polynomial mod a monic irreducible of degree k, found by search: the first
 // monic polynomial under which every nonzero element has an inverse).
+template <int = 0>
 inline std::vector<int> quadratic_character(unsigned p, unsigned k) {
   unsigned q = 1;
   for (unsigned i = 0; i < k; ++i) q *= p;
@@ -514,6 +516,7 @@ inline std::vector<int> quadratic_character(unsigned p, unsigned k) {
   return chi;
 }
 
+template <int = 0>
 inline conference_matrix make_conference_matrix(std::size_t n) {
   conference_matrix r;
   if (n < 2) return r;

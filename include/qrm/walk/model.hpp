@@ -68,13 +68,14 @@ class walk_model {
     if (s.dims() == 2 && dirs_.fractional_bits != 0)
       throw std::invalid_argument("walk_model: 2D walks move whole cells (0 fractional bits)");
     coin_of_voxel_.assign(s.voxel_count(), -1);
-    std::map<std::tuple<int, double, double, double, int, double, double>, int> seen;
+    // Voxels with equal coin parameters share one coin. The key is an array, not a tuple: a
+    // 7-tuple's comparison operators cost the umbrella header ~1 MiB of g++'s heap.
+    std::map<std::array<double, 7>, int> seen;
     for (std::size_t i = 0; i < s.voxel_count(); ++i) {
       const voxel& v = s[i];
       if (v.kind == material::air) continue;
-      const auto key =
-          std::make_tuple(static_cast<int>(v.kind), v.normal[0], v.normal[1], v.normal[2], v.normal_index, v.lobe,
-                          v.density);
+      const std::array<double, 7> key = {static_cast<double>(v.kind), v.normal[0], v.normal[1], v.normal[2],
+                                         static_cast<double>(v.normal_index), v.lobe, v.density};
       auto it = seen.find(key);
       if (it == seen.end()) {
         it = seen.emplace(key, static_cast<int>(coins_.size())).first;
