@@ -16,6 +16,8 @@
 #include <qrm/walk/lightmap.hpp>
 #include <qrm/walk/scene_format.hpp>
 
+#include "support/history_check.hpp"
+
 namespace {
 
 // An N x N room: boundary ring, Lambertian inner walls facing in, a light in the top wall and
@@ -218,21 +220,7 @@ TEST_CASE("surface march: the March gate is a bijection on every basis state of 
 
 TEST_CASE("surface march: the history variant's P(out = 1) is the classical path sum") {
   auto check = [](const qrm::walk_model& m, const std::vector<qrm::walk_start>& starts, unsigned steps) {
-    std::size_t nonzero = 0;
-    for (const auto& st : starts)
-      for (int c = 0; c < 3; ++c) {
-        qrm::walk_options o;
-        o.steps = steps;
-        o.channel = c;
-        o.variant = qrm::walk_variant::history;
-        const qrm::walk_program w = qrm::make_walk_program(m, st, o);
-        const double p = qrm::walk_probability<qrm::compact_backend>(w);
-        const double classical = qrm::path_sum(m, st, steps, c) / (steps * w.tables.emission_scale);
-        REQUIRE(p == doctest::Approx(classical).epsilon(1e-12).scale(1.0));
-        CHECK(qrm::path_sum_enumerated(m, st, steps, c) == doctest::Approx(qrm::path_sum(m, st, steps, c)).epsilon(1e-12));
-        nonzero += p > 0;
-      }
-    CHECK(nonzero > 0);
+    qrm_test::check_history_equals_path_sum(m, starts, steps, true);
   };
   SUBCASE("2D room, every cell, 3 steps") {
     const qrm::walk_model m(room_2d(8), qrm::king_2d(), qrm::march_mode::surface);

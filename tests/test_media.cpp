@@ -17,6 +17,8 @@
 #include <qrm/walk/lightmap.hpp>
 #include <qrm/walk/scene_format.hpp>
 
+#include "support/history_check.hpp"
+
 namespace {
 
 // Coin entries are one square root and one product each, so unitarity and |U|^2 hold to ~1e-15
@@ -170,20 +172,7 @@ TEST_CASE("surface march through fog: one voxel per step, straight on with proba
 
 TEST_CASE("media: the history variant's P(out = 1) is the classical path sum") {
   auto check = [](const qrm::walk_model& m, const std::vector<qrm::walk_start>& starts, unsigned steps) {
-    std::size_t nonzero = 0;
-    for (const auto& st : starts)
-      for (int c = 0; c < 3; ++c) {
-        qrm::walk_options o;
-        o.steps = steps;
-        o.channel = c;
-        o.variant = qrm::walk_variant::history;
-        const qrm::walk_program w = qrm::make_walk_program(m, st, o);
-        const double p = qrm::walk_probability<qrm::compact_backend>(w);
-        const double classical = qrm::path_sum(m, st, steps, c) / (steps * w.tables.emission_scale);
-        REQUIRE(p == doctest::Approx(classical).epsilon(1e-12).scale(1.0));
-        nonzero += p > 0;
-      }
-    CHECK(nonzero > 0);
+    qrm_test::check_history_equals_path_sum(m, starts, steps);
   };
   SUBCASE("2D room with a fog region (lower half), every cell, 3 steps") {
     for (double p : {0.3, 1.0}) {

@@ -38,16 +38,15 @@ qrm::program read_qasm(const std::string& path) {
 
 struct timed_run {
   std::vector<double> seconds;  // one per repetition
-  std::vector<std::complex<double>> state;
   double norm = 0;
+};
+struct simulation {
+  timed_run run, plain;      // plain: the unfused program, with --compare
+  double difference = 0;     // largest |run - plain| over the amplitudes
 };
 
 template <class S>
-timed_run run_timed(const qrm::program& p, unsigned threads, unsigned repeat, qrm::simd_level simd) {
-  qrm::dense_options o;
-  o.threads = threads;
-  o.simd = simd;
-  qrm::state_vector<S> s(p.width(), o);
+timed_run run_timed(qrm::state_vector<S>& s, const qrm::program& p, unsigned repeat) {
   timed_run r;
   for (unsigned i = 0; i < repeat; ++i) {
     s.set_basis_state(0);
@@ -56,17 +55,35 @@ timed_run run_timed(const qrm::program& p, unsigned threads, unsigned repeat, qr
     r.seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
   r.norm = s.norm_squared();
-  const auto a = s.amplitudes();
-  r.state.assign(a.begin(), a.end());
   return r;
 }
 
-timed_run run_scalar(const std::string& scalar, const qrm::program& p, unsigned threads, unsigned repeat,
-                     qrm::simd_level simd) {
-  if (scalar == "complex-double") return run_timed<std::complex<double>>(p, threads, repeat, simd);
-  if (scalar == "complex-float") return run_timed<std::complex<float>>(p, threads, repeat, simd);
-  if (scalar == "double") return run_timed<double>(p, threads, repeat, simd);
-  return run_timed<float>(p, threads, repeat, simd);
+// `program` timed; with `plain`, that one too, and the two final states compared in place (a
+// second state only then: no copy of the amplitudes).
+template <class S>
+simulation simulate(const qrm::program& program, const qrm::program* plain, unsigned threads, unsigned repeat,
+                    qrm::simd_level simd) {
+  qrm::dense_options o;
+  o.threads = threads;
+  o.simd = simd;
+  simulation r;
+  qrm::state_vector<S> s(program.width(), o);
+  r.run = run_timed(s, program, repeat);
+  if (plain) {
+    qrm::state_vector<S> t(plain->width(), o);
+    r.plain = run_timed(t, *plain, repeat);
+    const auto a = s.amplitudes(), b = t.amplitudes();
+    for (std::size_t i = 0; i < a.size(); ++i) r.difference = std::max(r.difference, static_cast<double>(std::abs(a[i] - b[i])));
+  }
+  return r;
+}
+
+simulation simulate_scalar(const std::string& scalar, const qrm::program& program, const qrm::program* plain,
+                           unsigned threads, unsigned repeat, qrm::simd_level simd) {
+  if (scalar == "complex-double") return simulate<std::complex<double>>(program, plain, threads, repeat, simd);
+  if (scalar == "complex-float") return simulate<std::complex<float>>(program, plain, threads, repeat, simd);
+  if (scalar == "double") return simulate<double>(program, plain, threads, repeat, simd);
+  return simulate<float>(program, plain, threads, repeat, simd);
 }
 
 double fastest(const timed_run& r) { return *std::min_element(r.seconds.begin(), r.seconds.end()); }
@@ -154,14 +171,11 @@ int cmd_simulate(args& a) {
     fused = qrm::fuse(p, {fuse_width}, &rep);
     fuse_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
-  const timed_run main_run = run_scalar(scalar, fuse_width ? fused : p, used_threads, repeat, simd);
-  timed_run plain;
-  double difference = 0;
-  if (compare) {
-    plain = run_scalar(scalar, p, used_threads, repeat, simd);
-    for (std::size_t i = 0; i < plain.state.size(); ++i)
-      difference = std::max(difference, std::abs(plain.state[i] - main_run.state[i]));
-  }
+  const simulation sim =
+      simulate_scalar(scalar, fuse_width ? fused : p, compare ? &p : nullptr, used_threads, repeat, simd);
+  const timed_run& main_run = sim.run;
+  const timed_run& plain = sim.plain;
+  const double difference = sim.difference;
 
   if (format == "text") {
     std::printf("circuit   %s: %zu qubits, %zu ops\n", source.c_str(), p.width(), p.size());

@@ -18,38 +18,16 @@ the CLI's default 8^3 the sphere is about one voxel across) and the default imag
 2. Monte Carlo converges to the exact image: the least-squares slope of log RMSE over log N for
    N = 8, 32, 128, 512 paths per pixel lies in [-0.6, -0.4] (N^-1/2).
 """
-import array
-import json
 import math
 import os
-import shutil
-import subprocess
 import sys
 import time
 
-
-def run(qrm, args, out):
-    shutil.rmtree(out, ignore_errors=True)
-    r = subprocess.run([qrm, "render", *args, "--out", out, "--quiet"], capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.exit("qrm render %s failed (%d):\n%s" % (" ".join(args), r.returncode, r.stderr))
-    return json.loads(r.stdout)
+from render_check import check_mc_slope, read_pfm_pixels as read_pfm, run
 
 
-def read_pfm(path):
-    with open(path, "rb") as f:
-        if f.readline().strip() != b"PF":
-            sys.exit("%s: not a colour PFM" % path)
-        w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        a = array.array("f")
-        a.frombytes(f.read())
-    if scale > 0:
-        a.byteswap()
-    if len(a) != 3 * w * h:
-        sys.exit("%s: %d values for %dx%d" % (path, len(a), w, h))
-    # PFM rows run bottom to top.
-    return w, h, lambda x, y: a[3 * ((h - 1 - y) * w + x):3 * ((h - 1 - y) * w + x) + 3]
+
+
 
 
 # The analytic scene in millimetres (render/voxelize.hpp: cornell_box, cornell_mirror,
@@ -162,19 +140,6 @@ def check_reflection(qrm, work, voxels, failures):
     print("elapsed %.1f s" % (time.time() - t0))
 
 
-def check_mc_slope(qrm, work, voxels, failures):
-    xs, ys = [], []
-    for n in (8, 32, 128, 512):
-        s = run(qrm, ["--scene", "cornell_mirror", "--voxels", str(voxels), "--method", "exact,mc", "--paths", str(n),
-                      "--seed", "3"], os.path.join(work, "mc%d" % n))
-        xs.append(math.log(n))
-        ys.append(math.log(s["rmse_vs_exact"]["mc"]))
-        print("  %4d paths: RMSE %.5f (mc %.2f s)" % (n, s["rmse_vs_exact"]["mc"], s["seconds"]["mc"]))
-    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
-    slope = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
-    print("cornell_mirror: Monte Carlo RMSE vs exact over 8..512 paths: slope %.3f (N^-1/2: -0.5)" % slope)
-    if not -0.6 <= slope <= -0.4:
-        failures.append("Monte Carlo RMSE slope %.3f is not -0.5 +- 0.1" % slope)
 
 
 def main():
@@ -185,7 +150,8 @@ def main():
     os.makedirs(work, exist_ok=True)
     failures = []
     check_reflection(qrm, work, voxels, failures)
-    check_mc_slope(qrm, work, voxels, failures)
+    check_mc_slope(qrm, work, "cornell_mirror %d^3" % voxels, ["--scene", "cornell_mirror", "--voxels", str(voxels)],
+                   failures)
     if failures:
         print("FAILED:\n  " + "\n  ".join(failures))
         sys.exit(1)

@@ -15,38 +15,15 @@
    128x128, 64 directions, 6 bounces): the least-squares slope of log RMSE over log N for
    N = 8, 32, 128, 512 paths per pixel lies in [-0.6, -0.4] (N^-1/2).
 """
-import array
-import json
-import math
 import os
-import shutil
-import subprocess
 import sys
 import time
 
-
-def run(qrm, args, out):
-    shutil.rmtree(out, ignore_errors=True)
-    r = subprocess.run([qrm, "render", *args, "--out", out, "--quiet"], capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.exit("qrm render %s failed (%d):\n%s" % (" ".join(args), r.returncode, r.stderr))
-    return json.loads(r.stdout)
+from render_check import check_mc_slope, read_pfm_pixels as read_pfm, run
 
 
-def read_pfm(path):
-    with open(path, "rb") as f:
-        if f.readline().strip() != b"PF":
-            sys.exit("%s: not a colour PFM" % path)
-        w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        a = array.array("f")
-        a.frombytes(f.read())
-    if scale > 0:
-        a.byteswap()
-    if len(a) != 3 * w * h:
-        sys.exit("%s: %d values for %dx%d" % (path, len(a), w, h))
-    # PFM rows run bottom to top.
-    return w, h, lambda x, y: a[3 * ((h - 1 - y) * w + x):3 * ((h - 1 - y) * w + x) + 3]
+
+
 
 
 SLAB = """qrm-scene 1
@@ -84,20 +61,6 @@ def check_beer_lambert(qrm, work, failures):
                             % (p, r, values[1], values[0]))
 
 
-def check_mc_slope(qrm, work, failures):
-    xs, ys = [], []
-    for n in (8, 32, 128, 512):
-        s = run(qrm, ["--scene", "cornell_fog", "--method", "exact,mc", "--paths", str(n), "--seed", "3"],
-                os.path.join(work, "mc%d" % n))
-        xs.append(math.log(n))
-        ys.append(math.log(s["rmse_vs_exact"]["mc"]))
-        print("  %4d paths: RMSE %.5f (exact %.2f s, mc %.2f s)"
-              % (n, s["rmse_vs_exact"]["mc"], s["seconds"]["exact"], s["seconds"]["mc"]))
-    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
-    slope = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
-    print("cornell_fog 8^3: Monte Carlo RMSE vs exact over 8..512 paths: slope %.3f (N^-1/2: -0.5)" % slope)
-    if not -0.6 <= slope <= -0.4:
-        failures.append("Monte Carlo RMSE slope %.3f is not -0.5 +- 0.1" % slope)
 
 
 def main():
@@ -108,7 +71,7 @@ def main():
     failures = []
     t0 = time.time()
     check_beer_lambert(qrm, work, failures)
-    check_mc_slope(qrm, work, failures)
+    check_mc_slope(qrm, work, "cornell_fog 8^3", ["--scene", "cornell_fog"], failures)
     print("elapsed %.1f s" % (time.time() - t0))
     if failures:
         print("FAILED:\n  " + "\n  ".join(failures))

@@ -20,37 +20,18 @@
    channel whose exact value is 0 is exactly 0 in the emulated and the quantum image (no
    estimator floor), and the others are not all 0.
 """
-import array
 import csv
 import json
 import math
 import os
-import shutil
 import subprocess
 import sys
 
-
-def run(qrm, args, out):
-    shutil.rmtree(out, ignore_errors=True)
-    r = subprocess.run([qrm, "render", *args, "--out", out, "--quiet"], capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.exit("qrm render %s failed (%d):\n%s" % (" ".join(args), r.returncode, r.stderr))
-    return json.loads(r.stdout)
+from render_check import check_mc_slope, read_pfm, run
 
 
-def read_pfm(path):
-    with open(path, "rb") as f:
-        if f.readline().strip() != b"PF":
-            sys.exit("%s: not a colour PFM" % path)
-        w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        a = array.array("f")
-        a.frombytes(f.read())
-    if scale > 0:
-        a.byteswap()
-    if len(a) != 3 * w * h:
-        sys.exit("%s: %d values for %dx%d" % (path, len(a), w, h))
-    return w, h, a
+
+
 
 
 def check_cornell(qrm, work, failures):
@@ -87,18 +68,6 @@ def check_cornell(qrm, work, failures):
         failures.append("the right fifth is not green: mean G %.4g, R %.4g" % (rg, rr))
 
 
-def check_mc_slope(qrm, work, failures):
-    xs, ys = [], []
-    for n in (8, 32, 128, 512):
-        s = run(qrm, ["--scene", "cornell", "--voxels", "64", "--width", "64", "--height", "64", "--method", "exact,mc",
-                      "--paths", str(n), "--seed", "3"], os.path.join(work, "mc%d" % n))
-        xs.append(math.log(n))
-        ys.append(math.log(s["rmse_vs_exact"]["mc"]))
-    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
-    slope = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
-    print("Monte Carlo RMSE vs exact over 8..512 paths: slope %.3f (N^-1/2: -0.5)" % slope)
-    if not -0.6 <= slope <= -0.4:
-        failures.append("Monte Carlo RMSE slope %.3f is not -0.5 +- 0.1" % slope)
 
 
 def lightmap(qrm, scene, out):
@@ -213,7 +182,8 @@ def main():
     os.makedirs(work, exist_ok=True)
     failures = []
     check_cornell(qrm, work, failures)
-    check_mc_slope(qrm, work, failures)
+    check_mc_slope(qrm, work, "cornell 64^3 at 64x64",
+                   ["--scene", "cornell", "--voxels", "64", "--width", "64", "--height", "64"], failures)
     check_symmetric_room(qrm, scenes, work, failures)
     check_voxel_march(qrm, work, failures)
     check_black_stays_black(qrm, work, failures)

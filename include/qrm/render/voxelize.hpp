@@ -424,6 +424,31 @@ inline constexpr rgb cornell_white{0.725, 0.71, 0.68};
 inline constexpr rgb cornell_red{0.63, 0.065, 0.05};
 inline constexpr rgb cornell_green{0.14, 0.45, 0.091};
 
+// Blocks rest on the floor: no bottom face.
+inline constexpr unsigned cornell_block_faces = all_box_faces & ~box_face_bit(1, false);
+
+// The Cornell box's two blocks, at their published corners (mm) and heights.
+template <int = 0>
+inline oriented_box cornell_short_block(const qrm::detail::cornell_frame& fr) {
+  return qrm::detail::published_block(fr, {{{130, 65}, {82, 225}, {240, 272}, {290, 114}}}, 165);
+}
+template <int = 0>
+inline oriented_box cornell_tall_block(const qrm::detail::cornell_frame& fr) {
+  return qrm::detail::published_block(fr, {{{423, 247}, {265, 296}, {314, 456}, {472, 406}}}, 330);
+}
+
+// The Cornell box's room (green wall at small x, red at large x, the rest white, front open) and
+// its short block; what stands beside the short block is the caller's.
+template <int = 0>
+inline void add_cornell_room(voxelizer& vx, const qrm::detail::cornell_frame& fr, unsigned size) {
+  const surface_material white{material::lambertian, cornell_white, {}, 0};
+  const surface_material red{material::lambertian, cornell_red, {}, 0};
+  const surface_material green{material::lambertian, cornell_green, {}, 0};
+  // Faces -x, +x, -y, +y, -z (open), +z: the coloured walls come first, so they win the edges.
+  vx.add_box(qrm::detail::room_box(size), {green, red, white, white, white, white}, qrm::detail::room_faces, true);
+  vx.add_box(cornell_short_block(fr), white, cornell_block_faces);
+}
+
 // cornell_box(N, light_emission): the Cornell box (Cornell University's published data) in an
 // N^3 grid (N >= 8). The paper's "modified Cornell box"; what differs from the published box:
 //   - the room is a 550 mm cube (published: 549.6-556 mm wide, 548.8 mm high, 559.2 mm deep;
@@ -439,16 +464,9 @@ template <int = 0>
 inline scene cornell_box(unsigned size, const rgb& light_emission = {17, 12, 4}) {
   qrm::detail::check_box_scene_size("cornell_box", size);
   const qrm::detail::cornell_frame fr(size);
-  const surface_material white{material::lambertian, cornell_white, {}, 0};
-  const surface_material red{material::lambertian, cornell_red, {}, 0};
-  const surface_material green{material::lambertian, cornell_green, {}, 0};
   voxelizer vx(size);
-  // Faces -x, +x, -y, +y, -z (open), +z: the coloured walls come first, so they win the edges.
-  vx.add_box(qrm::detail::room_box(size), {green, red, white, white, white, white}, qrm::detail::room_faces, true);
-  const unsigned no_bottom = all_box_faces & ~box_face_bit(1, false);
-  vx.add_box(qrm::detail::published_block(fr, {{{130, 65}, {82, 225}, {240, 272}, {290, 114}}}, 165), white, no_bottom);
-  vx.add_box(qrm::detail::published_block(fr, {{{423, 247}, {265, 296}, {314, 456}, {472, 406}}}, 330), white,
-             no_bottom);
+  add_cornell_room(vx, fr, size);
+  vx.add_box(cornell_tall_block(fr), surface_material{material::lambertian, cornell_white, {}, 0}, cornell_block_faces);
   scene sc = vx.build("cornell_box_" + std::to_string(size));
   qrm::detail::paint_ceiling_light(sc, fr.at(213), fr.at(343), fr.at(227), fr.at(332), light_emission);
   sc.validate();
@@ -487,13 +505,8 @@ inline scene cornell_sphere(unsigned size, const surface_material& ball, const s
                             const rgb& light_emission = {17, 12, 4}) {
   qrm::detail::check_box_scene_size(name.c_str(), size);
   const qrm::detail::cornell_frame fr(size);
-  const surface_material white{material::lambertian, cornell_white, {}, 0};
-  const surface_material red{material::lambertian, cornell_red, {}, 0};
-  const surface_material green{material::lambertian, cornell_green, {}, 0};
   voxelizer vx(size);
-  vx.add_box(qrm::detail::room_box(size), {green, red, white, white, white, white}, qrm::detail::room_faces, true);
-  const unsigned no_bottom = all_box_faces & ~box_face_bit(1, false);
-  vx.add_box(qrm::detail::published_block(fr, {{{130, 65}, {82, 225}, {240, 272}, {290, 114}}}, 165), white, no_bottom);
+  add_cornell_room(vx, fr, size);
   vx.add_sphere({fr.at(vec3{385, 110, 330}), fr.k * 110}, ball);
   scene sc = vx.build(name + "_" + std::to_string(size));
   qrm::detail::paint_ceiling_light(sc, fr.at(213), fr.at(343), fr.at(227), fr.at(332), light_emission);
@@ -545,9 +558,7 @@ inline scene cornell_fog(unsigned size, double density_at_8 = 0.1, const rgb& rh
   scene sc = cornell_box(size);
   sc.set_name("cornell_fog_" + std::to_string(size));
   const qrm::detail::cornell_frame fr(size);
-  const std::array<oriented_box, 2> blocks{
-      qrm::detail::published_block(fr, {{{130, 65}, {82, 225}, {240, 272}, {290, 114}}}, 165),
-      qrm::detail::published_block(fr, {{{423, 247}, {265, 296}, {314, 456}, {472, 406}}}, 330)};
+  const std::array<oriented_box, 2> blocks{cornell_short_block(fr), cornell_tall_block(fr)};
   auto inside = [](const oriented_box& b, const vec3& p) {
     const vec3 r = qrm::detail::vec_sub(p, b.centre);
     for (std::size_t a = 0; a < 3; ++a)

@@ -48,12 +48,33 @@ namespace qrm::detail {
 // The widest matrix these kernels take (fuse() makes at most 2^6).
 inline constexpr std::size_t vector_kernel_max_dim = 64;
 
-// A matrix as rows of non-zero entries (real and imaginary parts apart, in double).
+// A matrix as rows of non-zero entries (real and imaginary parts apart, in double: arithmetic
+// is in double even when amplitudes are stored in float).
 struct csr_matrix {
   std::size_t dim = 0;
   bool real = true;
   std::vector<std::uint32_t> row_start, col;
   std::vector<double> re, im;
+
+  // A template only so that it is compiled where used (see circuit/program.hpp).
+  template <int = 0>
+  static csr_matrix of(const dense_matrix& m) {
+    csr_matrix r;
+    r.dim = m.dim;
+    r.real = m.is_real();
+    r.row_start.push_back(0);
+    for (std::size_t row = 0; row < m.dim; ++row) {
+      for (std::size_t c = 0; c < m.dim; ++c) {
+        const complex v = m(row, c);
+        if (v == complex{}) continue;
+        r.col.push_back(static_cast<std::uint32_t>(c));
+        r.re.push_back(v.real());
+        r.im.push_back(v.imag());
+      }
+      r.row_start.push_back(static_cast<std::uint32_t>(r.col.size()));
+    }
+    return r;
+  }
 };
 
 // One application: the matrix, each row's offset from a base, the amplitudes.

@@ -307,26 +307,10 @@ void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cm
 
 // A matrix stored by rows of non-zero entries, in the backend's precision.
 template <class S>
-struct sparse_rows {
+struct sparse_rows : csr_matrix {
   using R = typename scalar_traits<S>::real;
-  std::size_t dim = 0;
-  bool real = true;
-  std::vector<std::uint32_t> row_start, col;
-  std::vector<double> re, im;  // arithmetic in double even when amplitudes are stored in float
 
-  explicit sparse_rows(const dense_matrix& m) : dim(m.dim), real(m.is_real()) {
-    row_start.push_back(0);
-    for (std::size_t r = 0; r < dim; ++r) {
-      for (std::size_t c = 0; c < dim; ++c) {
-        const complex v = m(r, c);
-        if (v == complex{}) continue;
-        col.push_back(static_cast<std::uint32_t>(c));
-        re.push_back(v.real());
-        im.push_back(v.imag());
-      }
-      row_start.push_back(static_cast<std::uint32_t>(col.size()));
-    }
-  }
+  explicit sparse_rows(const dense_matrix& m) : csr_matrix(csr_matrix::of(m)) {}
 
   // out = M * in, for `in` gathered from the state.
   void multiply(const S* in, S* out) const {
@@ -379,25 +363,6 @@ inline std::vector<std::uint64_t> target_offsets(std::span<const qubit_index> ta
   return off;
 }
 
-template <int = 0>
-inline csr_matrix to_csr(const dense_matrix& m) {
-  csr_matrix r;
-  r.dim = m.dim;
-  r.real = m.is_real();
-  r.row_start.push_back(0);
-  for (std::size_t row = 0; row < m.dim; ++row) {
-    for (std::size_t c = 0; c < m.dim; ++c) {
-      const complex v = m(row, c);
-      if (v == complex{}) continue;
-      r.col.push_back(static_cast<std::uint32_t>(c));
-      r.re.push_back(v.real());
-      r.im.push_back(v.imag());
-    }
-    r.row_start.push_back(static_cast<std::uint32_t>(r.col.size()));
-  }
-  return r;
-}
-
 template <class S>
 void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qubit_index> targets,
                     std::uint64_t tmask, std::uint64_t cmask, std::uint64_t cvalue, const exec_policy& ex) {
@@ -405,7 +370,7 @@ void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qub
   const subspace s(n, cmask | tmask, cvalue);
   if constexpr (scalar_traits<S>::is_complex) {
     if (m.dim <= vector_kernel_max_dim) {
-      const csr_matrix rows = to_csr(m);
+      const csr_matrix rows = csr_matrix::of(m);
       csr_job<S> job{&rows, offsets.data(), a};
       job.level = resolve_simd(ex.simd);
       // Dense enough (a quarter of the entries non-zero): every entry, unrolled, beats the
