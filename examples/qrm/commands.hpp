@@ -51,6 +51,7 @@ int cmd_scaling(args&);
 int cmd_resources(args&);
 int cmd_crossover(args&);
 int cmd_simulate(args&);
+int cmd_noise(args&);
 
 // The crossover study (cmd_crossover.cpp; qrm figures runs it too): writes crossover.csv,
 // crossover.md and crossover.svg into `out`.
@@ -78,6 +79,7 @@ crossover_result run_crossover(const crossover_request& r);
 
 flag_table lightmap_flags();
 flag_table circuit_flags();
+flag_table noise_flags();
 flag_table estimate_flags();
 flag_table render_flags();
 flag_table merge_flags();

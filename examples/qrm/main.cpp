@@ -37,6 +37,8 @@ const command commands[] = {
      "qrm scaling --out scaling", scaling_flags, cmd_scaling},
     {"resources", "what one cell's amplitude estimate would cost on a fault-tolerant quantum computer",
      "qrm resources --scene paper_8x8 --x 3 --y 4 --preset ion --format text", resources_flags, cmd_resources},
+    {"noise", "one cell's walk on a noisy quantum computer: the damped Grover oscillation and the estimators' bias",
+     "qrm noise --scene paper_4x4 --x 1 --y 1 --rates 1e-5,1e-4 --out noise", noise_flags, cmd_noise},
     {"crossover", "at what error fault-tolerant amplitude estimation would beat Monte Carlo on this CPU",
      "qrm crossover --scene paper_8x8 --x 3 --y 4 --out crossover", crossover_flags, cmd_crossover},
     {"simulate", "run a circuit (OpenQASM 3 or a random suite) on the dense backend, fused or not, and time it",

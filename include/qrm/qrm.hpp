@@ -4,6 +4,7 @@
 //   circuit.hpp     typed registers, layouts, gate templates, circuits, programs, QASM
 //   backends.hpp    the backend concept, dense and compact simulators, measurement
 //   estimation.hpp  amplitude estimators
+//   noise.hpp       noise models, quantum trajectories, the noisy oracle
 //   resources.hpp   fault-tolerant cost: Clifford+T counts, surface-code qubits and time
 //   walk.hpp        quantum ray marching: scenes, coins, the walk circuit, classical references
 //   render.hpp      3D images: voxelizer, camera, classical and quantum renderers
@@ -23,6 +24,7 @@
 #include "circuit.hpp"
 #include "backends.hpp"
 #include "estimation.hpp"
+#include "noise.hpp"
 #include "resources.hpp"
 #include "walk.hpp"
 #include "render.hpp"

@@ -2,14 +2,14 @@
 """Checks the architecture of include/qrm: no loose facility headers beside the layer folders
 (only the umbrellas and version.hpp), and no #include from a layer to one above it.
 
-Layers, lowest first: support, circuit, backends, estimation, resources, walk, render. io stands apart: it may
+Layers, lowest first: support, circuit, backends, estimation, noise, resources, walk, render. io stands apart: it may
 use support only, and only render (and the top umbrella) may use io. Usage: check_layers.py INCLUDE_DIR
 """
 import os
 import re
 import sys
 
-ORDER = ["support", "circuit", "backends", "estimation", "resources", "walk", "render"]
+ORDER = ["support", "circuit", "backends", "estimation", "noise", "resources", "walk", "render"]
 ALLOWED = {name: set(ORDER[: i + 1]) for i, name in enumerate(ORDER)}
 ALLOWED["io"] = {"support", "io"}
 ALLOWED["render"] |= {"io"}

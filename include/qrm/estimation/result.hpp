@@ -36,6 +36,7 @@ struct estimation_result {
   std::array<double, 2> confidence_interval{0.0, 1.0};
   double confidence = 0;                 // the interval's nominal coverage, e.g. 0.95
   std::optional<double> standard_error;  // where the method defines one (mc, mlae)
+  std::optional<double> damping;         // noise-aware MLAE: the fitted decay per application of A
   std::uint64_t a_calls = 0;             // applications of A (or A^dagger): 2k+1 per shot of Q^k A
   std::uint64_t grover_calls = 0;        // applications of Q: k per shot of Q^k A
   std::uint64_t shots = 0;

@@ -1,0 +1,12 @@
+// qrm/noise.hpp: the walk on a noisy (not error-corrected) quantum computer.
+//   noise/model.hpp         noise_model: depolarizing, T1/T2 relaxation, readout; presets
+//   noise/channels.hpp      noisy_circuit: a circuit's gates and channels as events, at gate level
+//                           (decomposed, ASAP schedule) or logical level (one channel per op)
+//   noise/trajectories.hpp  quantum trajectories on the dense backend, readout-aware probabilities
+//   noise/oracle.hpp        noisy_oracle: p_k of Q^k A under noise, for every estimator
+#pragma once
+
+#include "noise/model.hpp"
+#include "noise/channels.hpp"
+#include "noise/trajectories.hpp"
+#include "noise/oracle.hpp"

@@ -1,0 +1,152 @@
+// qrm/noise/oracle.hpp: what an estimator asks a noisy quantum computer (qrm::amplitude_oracle).
+//
+// noisy_oracle(problem, model, options): p_k = P(the good qubits read good) after Q^k A, run as
+// quantum trajectories with the model's noise (gate level: A and Q decomposed into single-qubit
+// gates and CNOTs, noise after every gate and relaxation on the schedule; logical level: one
+// Pauli channel per logical op), readout errors included. The estimators draw their shots from
+// these probabilities as from any oracle, so the same code measures them ideal or noisy.
+// Every trajectory runs A and then Q again and again, recording p after each; `prepare(K)` runs
+// them to K at once (an estimator that asks for a larger power later makes the oracle run them
+// again to twice the power, so the trajectories are the same and results do not depend on the
+// order of questions). The ideal model runs one trajectory: p_k is then bit for bit the
+// probability a plain run of the decomposed circuits on the dense backend gives.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "../circuit/decompose.hpp"
+#include "../estimation/grover.hpp"
+#include "../estimation/oracle.hpp"
+#include "../estimation/problem.hpp"
+#include "channels.hpp"
+#include "model.hpp"
+#include "trajectories.hpp"
+
+namespace qrm {
+
+enum class noise_level : unsigned char { gates, logical };
+
+struct noisy_oracle_options : trajectory_options {
+  noise_level level = noise_level::gates;
+  decompose_options decompose;  // how A and Q are lowered (gate level), or costed (logical level)
+};
+
+// noisy_grover_circuits: A and Q of a problem with their noise (see the header comment).
+struct noisy_grover_circuits {
+  noisy_circuit a, grover;
+  std::size_t width = 0;  // qubits a trajectory needs (the decomposition's ancillas included)
+};
+
+template <int = 0>
+inline noisy_circuit noisy_circuit_of(const program& p, const noise_model& m, const noisy_oracle_options& o) {
+  if (o.level == noise_level::gates) return gate_level_noise(decompose(p, o.decompose).circuit, m);
+  return logical_level_noise(p, m, o.decompose);
+}
+
+template <int = 0>
+inline noisy_grover_circuits noisy_grover_circuits_of(const estimation_problem& e, const noise_model& m,
+                                                      const noisy_oracle_options& o) {
+  detail::check_good(e.good, e.a.width(), "noisy_oracle");
+  noisy_grover_circuits c{noisy_circuit_of(e.a, m, o), noisy_circuit_of(grover_operator(e), m, o), 0};
+  c.width = std::max(c.a.width(), c.grover.width());
+  return c;
+}
+
+class noisy_oracle {
+ public:
+  noisy_oracle(estimation_problem e, noise_model m, noisy_oracle_options o = {})
+      : e_(std::move(e)), m_(std::move(m)), o_(o), c_(noisy_grover_circuits_of(e_, m_, o_)) {
+    if (m_.is_ideal()) o_.trajectories = 1;  // every trajectory would be the same
+  }
+
+  const estimation_problem& problem() const { return e_; }
+  const noise_model& model() const { return m_; }
+  const noisy_grover_circuits& circuits() const { return c_; }
+  std::size_t trajectories() const { return o_.trajectories; }
+
+  // Runs every trajectory through Q^kmax A (nothing if that was done already).
+  void prepare(std::uint64_t kmax) {
+    if (!curve_.empty() && kmax < curve_.size()) return;
+    const std::size_t n = o_.trajectories, ks = static_cast<std::size_t>(kmax) + 1;
+    std::vector<double> p(n * ks);  // trajectory-major
+    for_each_trajectory(o_, c_.width, [&](std::size_t t, trajectory_state& s, rng& g) {
+      apply_noisy(s, c_.a, g);
+      p[t * ks] = read(s);
+      for (std::size_t k = 1; k < ks; ++k) {
+        apply_noisy(s, c_.grover, g);
+        p[t * ks + k] = read(s);
+      }
+    });
+    grover_iterations_ += static_cast<std::uint64_t>(n) * kmax;
+    curve_.assign(ks, {});
+    std::vector<double> column(n);
+    for (std::size_t k = 0; k < ks; ++k) {
+      for (std::size_t t = 0; t < n; ++t) column[t] = p[t * ks + k];
+      curve_[k] = mean_over_trajectories(std::span<const double>(column));
+    }
+  }
+
+  // p_k with its standard error over trajectories.
+  trajectory_mean probability_with_error(std::uint64_t k) {
+    if (k >= curve_.size()) prepare(std::max<std::uint64_t>(k, 2 * curve_.size()));
+    return curve_[static_cast<std::size_t>(k)];
+  }
+  double probability(std::uint64_t k) {
+    return detail::checked_probability(probability_with_error(k).mean, "noisy_oracle");
+  }
+
+  // The same problem with a * s^2 (an extra rotated ancilla, noisy like every other gate).
+  noisy_oracle rescaled(double s) const { return noisy_oracle(rescaled_problem(e_, s), m_, o_); }
+
+  // Head probability of the quantum coin (qcoin.hpp) after n noisy coin iterations: 1 - P(all
+  // of the coin circuit's qubits read 0).
+  double coin_probability(double l, std::uint64_t n) {
+    const auto key = std::make_pair(l, n);
+    if (auto it = coin_cache_.find(key); it != coin_cache_.end()) return it->second;
+    const program c = coin_program(e_, l);
+    const std::size_t w = c.width();
+    program g(w);
+    g.append(zero_reflection(w));
+    g.append(c.adjoint());
+    g.append(zero_reflection(w));
+    g.append(c);
+    const noisy_circuit ng = noisy_circuit_of(g, m_, o_);
+    std::vector<control> zero;
+    for (qubit_index q = 0; q < w; ++q) zero.push_back({q, false});
+    std::vector<double> stay(o_.trajectories);
+    for_each_trajectory(o_, ng.width(), [&](std::size_t t, trajectory_state& s, rng& r) {
+      for (std::uint64_t i = 0; i < n; ++i) apply_noisy(s, ng, r);
+      stay[t] = measured_probability(s, std::span<const control>(zero), m_.readout);
+    });
+    const double p =
+        1.0 - detail::checked_probability(mean_over_trajectories(std::span<const double>(stay)).mean, "noisy_oracle");
+    coin_cache_.emplace(key, p);
+    return p;
+  }
+
+  // Grover iterations simulated, summed over trajectories.
+  std::uint64_t simulated_grover_iterations() const { return grover_iterations_; }
+
+ private:
+  double read(const trajectory_state& s) const {
+    return measured_probability(s, std::span<const control>(e_.good), m_.readout);
+  }
+
+  estimation_problem e_;
+  noise_model m_;
+  noisy_oracle_options o_;
+  noisy_grover_circuits c_;
+  std::vector<trajectory_mean> curve_;
+  std::uint64_t grover_iterations_ = 0;
+  std::map<std::pair<double, std::uint64_t>, double> coin_cache_;
+};
+
+}  // namespace qrm

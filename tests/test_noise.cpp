@@ -1,0 +1,310 @@
+// Noise: the event list of a small scheduled circuit, trajectories against an exact density
+// matrix, the ideal model against the noiseless walk, determinism across threads, the damped
+// Grover oscillation, noise-aware MLAE, and bad models.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <qrm/backends/dense.hpp>
+#include <qrm/estimation/mlae.hpp>
+#include <qrm/estimation/oracle.hpp>
+#include <qrm/noise.hpp>
+#include <qrm/walk/circuit.hpp>
+#include <qrm/walk/lightmap.hpp>
+#include <qrm/walk/paper_scenes.hpp>
+
+#include "support/density_matrix.hpp"
+
+namespace {
+
+// A light-map cell of the paper's 4x4 scene: the A operator and good = out is 1.
+qrm::estimation_problem paper_cell(unsigned steps, unsigned x, unsigned y) {
+  const qrm::walk_model m(qrm::paper_4x4(), qrm::king_2d());
+  qrm::walk_options o;
+  o.steps = steps;
+  const qrm::walk_program w = qrm::make_walk_program(m, m.light_map_start({x, y, 0}), o);
+  return {w.circuit, {qrm::control{w.out, true}}};
+}
+
+qrm::noise_model mixed_model() {  // every kind of error, strong enough to matter on a few gates
+  qrm::noise_model m;
+  m.depolarizing_1q = 0.01;
+  m.depolarizing_2q = 0.04;
+  m.t1 = 20e-6;
+  m.t2 = 15e-6;
+  m.time_1q = 0.1e-6;
+  m.time_2q = 0.4e-6;
+  m.readout = 0.03;
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("gate-level noise: the events of H then CNOT, worked out by hand") {
+  qrm::program p(2);
+  p.apply_gate1(qrm::gate::h(), 0, {});
+  const qrm::control c0{0, true};
+  p.apply_gate1(qrm::gate::x(), 1, std::span<const qrm::control>(&c0, 1));
+  qrm::noise_model m;
+  m.depolarizing_1q = 0.1;
+  m.depolarizing_2q = 0.2;
+  m.t1 = 10;
+  m.t2 = 10;
+  m.time_1q = 1;
+  m.time_2q = 2;
+  const qrm::noisy_circuit nc = qrm::gate_level_noise(p, m);
+  using K = qrm::noise_event_kind;
+  // Damping over t: 1 - e^(-t/10); dephasing rate 1/T2 - 1/(2 T1) = 0.05: P(Z) = (1 - e^(-0.05 t)) / 2.
+  struct want {
+    K kind;
+    std::vector<qrm::qubit_index> qubits;
+    double p;
+  };
+  const std::vector<want> expected = {
+      {K::gate, {}, 0},
+      {K::pauli, {0}, 0.1},
+      {K::damping, {0}, 1 - std::exp(-0.1)},
+      {K::dephasing, {0}, (1 - std::exp(-0.05)) / 2},
+      {K::gate, {}, 0},  // starts at t = 1: qubit 0 did not wait, qubit 1 was never touched
+      {K::pauli, {1, 0}, 0.2},
+      {K::damping, {1}, 1 - std::exp(-0.2)},
+      {K::dephasing, {1}, (1 - std::exp(-0.1)) / 2},
+      {K::damping, {0}, 1 - std::exp(-0.2)},
+      {K::dephasing, {0}, (1 - std::exp(-0.1)) / 2},
+  };
+  REQUIRE(nc.events.size() == expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    CAPTURE(i);
+    CHECK(nc.events[i].kind == expected[i].kind);
+    CHECK(nc.events[i].qubits == expected[i].qubits);
+    CHECK(nc.events[i].probability == doctest::Approx(expected[i].p).epsilon(1e-14));
+  }
+  CHECK(nc.events[4].op == 1);
+  CHECK(nc.seconds == 3);
+
+  // An op that is neither a single-qubit gate nor a CNOT is refused.
+  qrm::program t(3);
+  const qrm::control cc[2] = {{0, true}, {1, true}};
+  t.apply_gate1(qrm::gate::x(), 2, cc);
+  CHECK_THROWS_WITH(qrm::gate_level_noise(t, m), doctest::Contains("op 0 is not a single-qubit gate or a CNOT"));
+}
+
+TEST_CASE("trajectories agree with an exact density matrix within 3 standard errors") {
+  // sine_integral_problem(2): 3 qubits, and ancillas for the Grover operator's reflections.
+  const qrm::estimation_problem e = qrm::sine_integral_problem(2);
+  const qrm::noise_model m = mixed_model();
+  qrm::noisy_oracle_options o;
+  o.trajectories = 4000;
+  o.seed = 7;
+  qrm::noisy_oracle oracle(e, m, o);
+  const auto& c = oracle.circuits();
+  REQUIRE(c.width <= 10);
+  qrm_test::density_matrix rho(static_cast<unsigned>(c.width));
+  rho.run(c.a);
+  double largest_gap = 0;
+  for (std::uint64_t k = 0; k <= 3; ++k) {
+    if (k > 0) rho.run(c.grover);
+    CAPTURE(k);
+    CHECK(rho.trace() == doctest::Approx(1).epsilon(1e-12));
+    const double exact = rho.measured(e.good, m.readout);
+    const qrm::trajectory_mean t = oracle.probability_with_error(k);
+    CHECK(t.standard_error > 0);
+    CHECK(std::fabs(t.mean - exact) <= 3 * t.standard_error);
+    largest_gap = std::max(largest_gap, std::fabs(t.mean - exact) / t.standard_error);
+  }
+  MESSAGE("largest |trajectories - density matrix| / standard error: " << largest_gap);
+
+  // The noise is visible: the noisy and ideal values differ by many standard errors at k = 3.
+  qrm::analytic_oracle ideal(qrm::sine_integral_value(2));
+  const qrm::trajectory_mean t3 = oracle.probability_with_error(3);
+  CHECK(std::fabs(t3.mean - ideal.probability(3)) > 10 * t3.standard_error);
+}
+
+TEST_CASE("the logical-level model against an exact density matrix of its own events") {
+  // Gate-level events reference single-qubit gates; the logical model on an already decomposed
+  // program is one Pauli channel per gate with p1 or p2, i.e. the gate-level model without time.
+  const qrm::estimation_problem e = qrm::sine_integral_problem(2);
+  const qrm::program d = qrm::decompose(e.a).circuit;
+  const qrm::noise_model m = qrm::depolarizing_noise(0.02, 0.05);
+  const qrm::noisy_circuit logical = qrm::logical_level_noise(d, m);
+  const qrm::noisy_circuit gates = qrm::gate_level_noise(d, m);
+  REQUIRE(logical.events.size() == gates.events.size());
+  for (std::size_t i = 0; i < gates.events.size(); ++i) {
+    CAPTURE(i);
+    CHECK(logical.events[i].kind == gates.events[i].kind);
+    CHECK(logical.events[i].probability == doctest::Approx(gates.events[i].probability).epsilon(1e-14));
+  }
+  // On the logical circuit: a C^2 X costs 6 CNOTs and 9 single-qubit gates (decompose.hpp's
+  // Toffoli), so its rate is 1 - 0.98^9 0.95^6.
+  qrm::program t(3);
+  const qrm::control cc[2] = {{0, true}, {1, true}};
+  t.apply_gate1(qrm::gate::x(), 2, cc);
+  const qrm::noisy_circuit tl = qrm::logical_level_noise(t, m);
+  REQUIRE(tl.events.size() == 2);
+  const auto counts = qrm::decomposed_metrics(t);
+  CHECK(counts.cnot_count == 6);
+  CHECK(tl.events[1].qubits == std::vector<qrm::qubit_index>{0, 1, 2});
+  CHECK(tl.events[1].probability ==
+        doctest::Approx(1 - std::pow(0.98, static_cast<double>(counts.single_qubit_count)) * std::pow(0.95, 6)));
+  CHECK_THROWS_WITH(qrm::logical_level_noise(t, mixed_model()), doctest::Contains("no T1/T2"));
+}
+
+TEST_CASE("the ideal model reproduces the noiseless walk: bit for bit, and the logical walk to 1e-12") {
+  // paper_4x4, one step from cell (1, 1): 10 logical qubits; decomposed, the Grover operator's
+  // reflection about |0...0> needs 8 ancillas (18 qubits).
+  const qrm::estimation_problem e = paper_cell(1, 1, 1);
+  qrm::noisy_oracle_options o;
+  o.trajectories = 50;  // the ideal model runs one: they would all be equal
+  qrm::noisy_oracle noisy(e, qrm::noise_preset("ideal"), o);
+  CHECK(noisy.trajectories() == 1);
+  qrm::simulated_oracle<qrm::state_vector<std::complex<double>>> logical(e);
+  const auto& c = noisy.circuits();
+  qrm::trajectory_state plain(c.width);
+  qrm::run(plain, c.a.circuit);
+  const std::uint64_t kmax = 3;
+  noisy.prepare(kmax);
+  for (std::uint64_t k = 0; k <= kmax; ++k) {
+    CAPTURE(k);
+    if (k > 0) qrm::run(plain, c.grover.circuit);
+    CHECK(noisy.probability(k) == plain.probability(e.good));  // bit for bit
+    CHECK(std::fabs(noisy.probability(k) - logical.probability(k)) <= 1e-12);
+  }
+  // Logical level, ideal, three steps (15 qubits): every k up to 2^5 (MLAE's default schedule).
+  const qrm::estimation_problem e3 = paper_cell(3, 1, 1);
+  qrm::simulated_oracle<qrm::state_vector<std::complex<double>>> logical3(e3);
+  o.level = qrm::noise_level::logical;
+  qrm::noisy_oracle noisy_logical(e3, qrm::noise_preset("ideal"), o);
+  noisy_logical.prepare(32);
+  for (std::uint64_t k = 0; k <= 32; ++k) {
+    CAPTURE(k);
+    CHECK(std::fabs(noisy_logical.probability(k) - logical3.probability(k)) <= 1e-12);
+  }
+}
+
+TEST_CASE("noisy trajectories do not depend on threads or on the order of questions") {
+  const qrm::estimation_problem e = qrm::sine_integral_problem(3);
+  qrm::noisy_oracle_options o;
+  o.trajectories = 64;
+  o.seed = 3;
+  o.threads = 1;
+  qrm::noisy_oracle one(e, mixed_model(), o);
+  o.threads = 2;
+  qrm::noisy_oracle two(e, mixed_model(), o);
+  two.prepare(5);
+  for (std::uint64_t k : {0u, 1u, 2u, 5u}) CHECK(one.probability(k) == two.probability(k));  // one grows 0, 1, 2, 4
+  o.seed = 4;
+  qrm::noisy_oracle other(e, mixed_model(), o);
+  CHECK(other.probability(5) != two.probability(5));
+}
+
+TEST_CASE("depolarizing noise damps the Grover oscillation of a paper_4x4 cell, more with every k") {
+  // Logical level (each op's rate from its 1q + CNOT count): one step, 10 qubits. p1 = 2e-5 and
+  // p2 = 2e-4 lose about 9% of the signal per application of A.
+  const qrm::estimation_problem e = paper_cell(1, 1, 1);
+  qrm::noisy_oracle_options o;
+  o.trajectories = 400;
+  o.level = qrm::noise_level::logical;
+  qrm::noisy_oracle noisy(e, qrm::depolarizing_noise(2e-5, 2e-4), o);
+  qrm::simulated_oracle<qrm::state_vector<std::complex<double>>> ideal(e);
+  const std::uint64_t kmax = 8;
+  noisy.prepare(kmax);
+  // Contrast: how much of the ideal swing from one power to the next survives,
+  // (p_k - p_(k-1)) / (ideal_k - ideal_(k-1)). Differences cancel the level the noise drives p
+  // towards (not 1/2 here: the logical model's errors mostly send the walker where out stays 0),
+  // and under Pauli noise the surviving fraction is a product of per-iteration factors: it must
+  // not grow with k beyond the trajectory error (a, 0.25 here, repeats every 3 powers).
+  double previous = 1, previous_error = 0;
+  int compared = 0;
+  for (std::uint64_t k = 1; k <= kmax; ++k) {
+    const double swing = ideal.probability(k) - ideal.probability(k - 1);
+    if (std::fabs(swing) < 0.3) continue;  // the ratio is ill-conditioned for small swings
+    const qrm::trajectory_mean t = noisy.probability_with_error(k), t0 = noisy.probability_with_error(k - 1);
+    const double contrast = (t.mean - t0.mean) / swing;
+    const double error = std::hypot(t.standard_error, t0.standard_error) / std::fabs(swing);
+    CAPTURE(k);
+    CAPTURE(contrast);
+    CHECK(contrast < 1);
+    CHECK(contrast <= previous + 3 * std::hypot(error, previous_error));
+    previous = contrast;
+    previous_error = error;
+    ++compared;
+  }
+  CHECK(compared >= 4);
+  CHECK(previous < 0.5);  // the decay is plain by the last compared k
+}
+
+namespace {
+// p_k of the damped model itself: what noise-aware MLAE assumes.
+struct damped_oracle {
+  double theta, rate;
+  double probability(std::uint64_t k) const {
+    const double K = 2.0 * static_cast<double>(k) + 1.0;
+    return 0.5 * (1 - std::exp(-rate * K) * std::cos(2 * K * theta));
+  }
+  double coin_probability(double, std::uint64_t) const { return 0; }
+  damped_oracle rescaled(double) const { return *this; }
+};
+}  // namespace
+
+TEST_CASE("noise-aware MLAE recovers amplitude and decay where plain MLAE is biased") {
+  const double a = 0.3, rate = 0.02;
+  damped_oracle o{std::asin(std::sqrt(a)), rate};
+  qrm::mlae_options opt;
+  opt.m = 6;
+  opt.shots = 200;
+  opt.exact_probabilities = true;
+  opt.noise_aware = true;
+  qrm::rng g(1);
+  const qrm::estimation_result exact = qrm::maximum_likelihood_amplitude_estimation(o, opt, g);
+  CHECK(exact.estimator == "mlae_noise_aware");
+  CHECK(exact.estimate == doctest::Approx(a).epsilon(1e-6));
+  REQUIRE(exact.damping.has_value());
+  CHECK(*exact.damping == doctest::Approx(rate).epsilon(1e-4));
+
+  // Shots: over 40 seeds, noise-aware RMSE well below plain MLAE's.
+  opt.exact_probabilities = false;
+  double sq_aware = 0, sq_plain = 0;
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    qrm::rng g1(seed), g2(seed);
+    opt.noise_aware = true;
+    const double x = qrm::maximum_likelihood_amplitude_estimation(o, opt, g1).estimate;
+    opt.noise_aware = false;
+    const double y = qrm::maximum_likelihood_amplitude_estimation(o, opt, g2).estimate;
+    sq_aware += (x - a) * (x - a);
+    sq_plain += (y - a) * (y - a);
+  }
+  MESSAGE("RMSE noise-aware " << std::sqrt(sq_aware / 40) << ", plain " << std::sqrt(sq_plain / 40));
+  CHECK(std::sqrt(sq_aware) * 2 < std::sqrt(sq_plain));
+
+  // Without noise the noise-aware fit finds no decay to speak of and the same amplitude.
+  damped_oracle clean{std::asin(std::sqrt(a)), 0.0};
+  opt.exact_probabilities = true;
+  opt.noise_aware = true;
+  const qrm::estimation_result r0 = qrm::maximum_likelihood_amplitude_estimation(clean, opt, g);
+  CHECK(r0.estimate == doctest::Approx(a).epsilon(1e-6));
+  CHECK(*r0.damping < 1e-4);
+}
+
+TEST_CASE("bad noise models are refused with the value") {
+  qrm::noise_model m;
+  m.depolarizing_2q = 1.5;
+  CHECK_THROWS_WITH(qrm::validate(m), doctest::Contains("two-qubit depolarizing rate must be a probability in [0, 1], got 1.5"));
+  m = {};
+  m.readout = -0.1;
+  CHECK_THROWS_WITH(qrm::validate(m), doctest::Contains("readout error"));
+  m = {};
+  m.t1 = 1e-6;
+  m.t2 = 3e-6;
+  m.time_2q = 1e-7;
+  CHECK_THROWS_WITH(qrm::validate(m), doctest::Contains("cannot exceed 2 T1"));
+  m = {};
+  m.t1 = 1e-6;
+  m.t2 = 1e-6;
+  CHECK_THROWS_WITH(qrm::validate(m), doctest::Contains("needs gate times"));
+  m = {};
+  m.time_1q = -1;
+  CHECK_THROWS_WITH(qrm::validate(m), doctest::Contains("single-qubit gate time"));
+  CHECK_THROWS_WITH(qrm::noise_preset("transmon"), doctest::Contains("unknown noise preset 'transmon'"));
+}

@@ -1,0 +1,81 @@
+#!/usr/bin/env python3
+"""`qrm noise`: the files it writes and what they must show.
+
+    check_noise.py QRM CHECK_SVG WORKDIR
+
+On a paper_4x4 cell (1 step, a = 1/4, logical level, 100 trajectories):
+- noise_oscillation.csv's ideal column is sin^2((2k+1) asin(sqrt a)) with the summary's exact a
+  (to 1e-9), every noisy value a probability with a finite standard error;
+- the noise shows: at every rate the noisy peak (k = 1, ideal 1) is lower than ideal by more than
+  3 standard errors, and lower at the higher rate;
+- noise_estimators.csv has every estimator at every rate; the SVG passes check_svg.py;
+- the same seed gives byte-identical CSVs with 1 and 2 threads.
+"""
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+
+
+def run(qrm, out, threads):
+    cmd = [qrm, "noise", "--steps", "1", "--trajectories", "100", "--kmax", "6", "--seeds", "4", "--rates", "1e-4,1e-3",
+           "--threads", str(threads), "--out", out, "--quiet"]
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit("qrm noise: exit %d: %s" % (r.returncode, r.stderr))
+    return json.loads(r.stdout)
+
+
+def main():
+    qrm, check_svg, work = sys.argv[1:4]
+    out1, out2 = os.path.join(work, "noise_t1"), os.path.join(work, "noise_t2")
+    summary = run(qrm, out1, 1)
+    run(qrm, out2, 2)
+    failures = []
+    a = summary["exact"]
+    theta = math.asin(math.sqrt(a))
+    rows = list(csv.DictReader(open(os.path.join(out1, "noise_oscillation.csv"))))
+    peaks = {}
+    for row in rows:
+        k = int(float(row["k"]))
+        ideal, noisy, se = float(row["ideal"]), float(row["noisy"]), float(row["standard_error"])
+        if abs(ideal - math.sin((2 * k + 1) * theta) ** 2) > 1e-9:
+            failures.append("k=%d: ideal %g is not sin^2((2k+1) theta)" % (k, ideal))
+        if not (0 <= noisy <= 1) or not math.isfinite(se):
+            failures.append("k=%d: noisy %g +- %g is not a probability" % (k, noisy, se))
+        if k == 1:
+            peaks[row["model"]] = (noisy, se, ideal)
+    if len(peaks) != 2:
+        failures.append("expected two rates, got %s" % list(peaks))
+    else:
+        (low, low_se, ideal), (high, high_se, _) = peaks["p2=0.0001"], peaks["p2=0.001"]
+        if not ideal - low > 3 * max(low_se, 1e-12):
+            failures.append("p2=1e-4: peak %g is not below the ideal %g by 3 standard errors (%g)" % (low, ideal, low_se))
+        if not low - high > 3 * math.hypot(low_se, high_se):
+            failures.append("the peak at p2=1e-3 (%g) is not below the one at 1e-4 (%g)" % (high, low))
+    est = list(csv.DictReader(open(os.path.join(out1, "noise_estimators.csv"))))
+    names = {(r["model"], r["estimator"]) for r in est}
+    for model in ("p2=0.0001", "p2=0.001"):
+        for name in ("mlae", "mlae_noise_aware", "iqae", "chebae", "fae"):
+            if (model, name) not in names:
+                failures.append("noise_estimators.csv lacks %s at %s" % (name, model))
+    r = subprocess.run([sys.executable, check_svg, os.path.join(out1, "noise_oscillation.svg"),
+                        "--min-count", "polyline=3", "--expect-text", "ideal"],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        failures.append("noise_oscillation.svg: " + r.stdout + r.stderr)
+    for f in ("noise_oscillation.csv", "noise_estimators.csv"):
+        if open(os.path.join(out1, f), "rb").read() != open(os.path.join(out2, f), "rb").read():
+            failures.append(f + " differs between 1 and 2 threads")
+    for f in failures:
+        print("FAIL:", f)
+    if failures:
+        sys.exit(1)
+    print("qrm noise: oscillation, estimators and plot as promised (peak %.4f ideal, %.4f and %.4f noisy)"
+          % (peaks["p2=0.0001"][2], peaks["p2=0.0001"][0], peaks["p2=0.001"][0]))
+
+
+if __name__ == "__main__":
+    main()
