@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <qrm/backends/dense.hpp>
+#include <qrm/estimation/estimator.hpp>
 #include <qrm/estimation/mlae.hpp>
 #include <qrm/estimation/oracle.hpp>
 #include <qrm/noise.hpp>
@@ -235,6 +236,35 @@ TEST_CASE("depolarizing noise damps the Grover oscillation of a paper_4x4 cell, 
   CHECK(previous < 0.5);  // the decay is plain by the last compared k
 }
 
+TEST_CASE("the global model: every run of A or Q fully depolarizes with its decomposition's error") {
+  const qrm::estimation_problem e = qrm::sine_integral_problem(3);
+  const double a = qrm::sine_integral_value(3);
+  const qrm::noise_model m = qrm::depolarizing_noise(1e-3, 1e-2);
+  const qrm::global_noise_oracle o(e, m, a);
+  // The survival probabilities from the gate counts of the decompositions (decompose.hpp, tested
+  // in test_decompose): (1 - p1)^n1 (1 - p2)^n2.
+  const auto ca = qrm::decomposed_metrics(e.a), cq = qrm::decomposed_metrics(qrm::grover_operator(e));
+  const double fa = std::pow(1 - 1e-3, static_cast<double>(ca.single_qubit_count)) * std::pow(1 - 1e-2, static_cast<double>(ca.cnot_count));
+  const double fq = std::pow(1 - 1e-3, static_cast<double>(cq.single_qubit_count)) * std::pow(1 - 1e-2, static_cast<double>(cq.cnot_count));
+  CHECK(o.survival_a() == doctest::Approx(fa).epsilon(1e-12));
+  CHECK(o.survival_q() == doctest::Approx(fq).epsilon(1e-12));
+  CHECK(fq < fa);  // Q runs A twice
+  const double theta = std::asin(std::sqrt(a));
+  for (std::uint64_t k : {0u, 1u, 5u, 20u}) {
+    const double l = fa * std::pow(fq, static_cast<double>(k));
+    const double s = std::sin((2.0 * static_cast<double>(k) + 1) * theta);
+    CHECK(o.probability(k) == doctest::Approx(l * s * s + (1 - l) * 0.5).epsilon(1e-12));
+  }
+  // Readout flips on the good qubit; the ideal model is the analytic oracle.
+  qrm::noise_model r = m;
+  r.readout = 0.1;
+  const qrm::global_noise_oracle ro(e, r, a);
+  CHECK(ro.probability(3) == doctest::Approx(0.9 * o.probability(3) + 0.1 * (1 - o.probability(3))).epsilon(1e-12));
+  const qrm::global_noise_oracle ideal(e, qrm::noise_preset("ideal"), a);
+  const qrm::analytic_oracle exact(a);
+  for (std::uint64_t k = 0; k <= 32; ++k) CHECK(std::fabs(ideal.probability(k) - exact.probability(k)) <= 1e-15);
+}
+
 namespace {
 // p_k of the damped model itself: what noise-aware MLAE assumes.
 struct damped_oracle {
@@ -285,6 +315,21 @@ TEST_CASE("noise-aware MLAE recovers amplitude and decay where plain MLAE is bia
   const qrm::estimation_result r0 = qrm::maximum_likelihood_amplitude_estimation(clean, opt, g);
   CHECK(r0.estimate == doctest::Approx(a).epsilon(1e-6));
   CHECK(*r0.damping < 1e-4);
+}
+
+TEST_CASE("any_oracle gives every estimator what the oracle it holds gives") {
+  // (the renderer runs noisy oracles through it; rescaled and coin probabilities included)
+  for (qrm::estimator_kind k : qrm::all_estimators) {
+    CAPTURE(qrm::estimator_name(k));
+    qrm::estimator_settings s;
+    s.kind = k;
+    qrm::analytic_oracle plain(0.3);
+    qrm::any_oracle held(qrm::analytic_oracle(0.3));
+    qrm::rng g1(5), g2(5);
+    const qrm::estimation_result a = qrm::estimate_amplitude(plain, s, g1), b = qrm::estimate_amplitude(held, s, g2);
+    CHECK(a.estimate == b.estimate);
+    CHECK(a.a_calls == b.a_calls);
+  }
 }
 
 TEST_CASE("bad noise models are refused with the value") {

@@ -1,7 +1,8 @@
 // qrm noise: one light-map cell's walk on a noisy quantum computer. For each noise rate: the
 // Grover oscillation P(out reads 1 after Q^k A) for k = 0..K against the ideal one (quantum
 // trajectories, qrm/noise), and the amplitude estimators run on that noisy oracle over many seeds
-// (bias and RMSE against the ideal amplitude; noise-aware MLAE beside the noise-unaware ones).
+// (bias and RMSE against the ideal amplitude; noise-aware MLAE beside the noise-unaware ones), and
+// MLAE's error against its cost at growing m, where noise makes the error stop falling.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -14,6 +15,7 @@
 
 #include <qrm/backends/compact.hpp>
 #include <qrm/estimation/estimator.hpp>
+#include <qrm/estimation/mlae.hpp>
 #include <qrm/estimation/oracle.hpp>
 #include <qrm/io/csv.hpp>
 #include <qrm/io/progress.hpp>
@@ -110,7 +112,7 @@ flag_table noise_flags() {
       {"mlae-m", "M", "4", "MLAE powers 0, 1, 2, .., 2^(M-1) (1..10)", e},
       {"seed", "S", "1", "random seed (integer >= 0)", r},
       {"threads", "T", "0", "worker threads for the trajectories; 0 = all cores", r},
-      {"out", "DIR", "noise", "output directory (created): noise.md, noise_oscillation.csv/.svg, noise_estimators.csv", r},
+      {"out", "DIR", "noise", "output directory (created): noise.md, noise_oscillation.csv/.svg, noise_convergence.csv/.svg, noise_estimators.csv", r},
   };
   add_progress_flags(f, r);
   return f;
@@ -175,25 +177,82 @@ int cmd_noise(args& a) {
                      ",\"y\":" + std::to_string(cell[1]) + ",\"steps\":" + std::to_string(wo.steps) +
                      ",\"level\":" + json_string(level_name) + ",\"exact\":" + json_number(exact) +
                      ",\"trajectories\":" + std::to_string(no.trajectories) + ",\"models\":[";
-  std::string md_rows;
+  // Convergence: plain MLAE at m = 1, 2, .. (powers up to 2^(m-1) <= kmax), RMSE against the
+  // ideal amplitude over the same seeds, ideal oracle and each noisy one.
+  std::vector<unsigned> conv_m;
+  for (unsigned mm = 1; mm <= 10 && (std::uint64_t{1} << (mm - 1)) <= std::max<std::uint64_t>(kmax, 1); ++mm) conv_m.push_back(mm);
+  qrm::io::table conv({"model", "m", "a_calls", "rmse"});
+  qrm::io::plot cplot;
+  cplot.title = "MLAE on " + sc.name() + " cell (" + std::to_string(cell[0]) + ", " + std::to_string(cell[1]) +
+                "): error against A applications, ideal and noisy";
+  cplot.x_label = "applications of A per estimate";
+  cplot.y_label = "RMS error of a";
+  cplot.x_scale = cplot.y_scale = qrm::io::axis_scale::log10;
+  auto convergence = [&](auto& oracle, const std::string& label, const std::string& colour) {
+    qrm::io::plot_series cs{label, {}, {}, colour, qrm::io::marker::square, true, false};
+    for (unsigned mm : conv_m) {
+      qrm::estimator_settings st;
+      st.kind = qrm::estimator_kind::mlae;
+      st.mlae.m = mm;
+      st.mlae.shots = shots;
+      double sq = 0, calls = 0;
+      for (std::size_t j = 0; j < seeds; ++j) {
+        qrm::rng g = qrm::rng::stream(seed + 1, j);
+        const qrm::estimation_result r = qrm::estimate_amplitude(oracle, st, g);
+        sq += (r.estimate - exact) * (r.estimate - exact);
+        calls += static_cast<double>(r.a_calls);
+      }
+      const double rmse = std::max(std::sqrt(sq / static_cast<double>(seeds)), 1e-12);
+      conv.add_row({label, static_cast<double>(mm), calls / static_cast<double>(seeds), rmse});
+      cs.x.push_back(calls / static_cast<double>(seeds));
+      cs.y.push_back(rmse);
+    }
+    cplot.series.push_back(cs);
+  };
+  {
+    qrm::any_oracle io(qrm::analytic_oracle{exact});  // any_oracle: the estimators compiled once
+    convergence(io, "ideal", "#000000");
+  }
+  std::string md_rows, fits;
   int width = 0;
   for (std::size_t mi = 0; mi < models.size(); ++mi) {
     const qrm::noise_model& nm = models[mi];
     const std::string label = kind == "depolarizing" ? "p2=" + short_number(nm.depolarizing_2q) : kind;
-    qrm::noisy_oracle oracle(problem, nm, no);
-    width = static_cast<int>(oracle.circuits().width);
-    oracle.prepare(kmax);
+    qrm::noisy_oracle noisy(problem, nm, no);
+    width = static_cast<int>(noisy.circuits().width);
+    noisy.prepare(kmax);
     bar.advance();
-    qrm::io::plot_series s{label + " (" + std::to_string(oracle.trajectories()) + " trajectories)", {}, {}, "",
+    qrm::io::plot_series s{label + " (" + std::to_string(noisy.trajectories()) + " trajectories)", {}, {}, "",
                            qrm::io::marker::circle, true, false};
     for (std::uint64_t k = 0; k <= kmax; ++k) {
-      const qrm::trajectory_mean t = oracle.probability_with_error(k);
+      const qrm::trajectory_mean t = noisy.probability_with_error(k);
       osc.add_row({label, nm.depolarizing_1q, nm.depolarizing_2q, static_cast<double>(k), ideal.probability(k), t.mean,
                    t.standard_error});
       s.x.push_back(static_cast<double>(k));
       s.y.push_back(t.mean);
     }
     plot.series.push_back(s);
+    qrm::any_oracle oracle(noisy);  // a copy with the trajectories' curve; one estimator instantiation
+    {  // the damped model noise-aware MLAE assumes, fitted to the noisy curve (exact probabilities)
+      qrm::mlae_options fo;
+      for (std::uint64_t k = 0; k <= kmax; ++k) fo.powers.push_back(k);
+      fo.shots = 1000;
+      fo.exact_probabilities = fo.noise_aware = true;
+      qrm::rng unused(0);
+      const qrm::estimation_result fit = qrm::maximum_likelihood_amplitude_estimation(oracle, fo, unused);
+      const double theta = std::asin(std::sqrt(fit.estimate)), rate = fit.damping.value_or(0.0);
+      qrm::io::plot_series fs{label + " fit: a = " + short_number(fit.estimate) + ", decay " + short_number(rate) +
+                                  " per A",
+                              {}, {}, "", qrm::io::marker::none, true, false};
+      for (std::uint64_t k = 0; k <= kmax; ++k) {
+        const double K = 2.0 * static_cast<double>(k) + 1.0;
+        fs.x.push_back(static_cast<double>(k));
+        fs.y.push_back(0.5 * (1 - std::exp(-rate * K) * std::cos(2 * K * theta)));
+      }
+      plot.series.push_back(fs);
+      fits += "| " + label + " | " + short_number(fit.estimate) + " | " + short_number(rate) + " |\n";
+    }
+    convergence(oracle, label, "");
     json += std::string(mi ? "," : "") + "{\"model\":" + json_string(label) + ",\"estimators\":{";
     for (std::size_t ei = 0; ei < estimators.size(); ++ei) {
       const auto& [name, settings] = estimators[ei];
@@ -245,10 +304,15 @@ int cmd_noise(args& a) {
                    ". Estimators run on the noisy oracle with the same seeds; bias and RMSE are against the ideal "
                    "amplitude; bias/SE is |bias| over the mean standard error the estimator reports (MLAE).\n\n"
                    "| noise | estimator | bias | RMSE | bias/SE | max power |\n|---|---|---|---|---|---|\n" +
-                   md_rows + "\n![Grover oscillation](noise_oscillation.svg)\n";
+                   md_rows +
+                   "\nThe damped model p_k = (1 - e^(-r (2k+1)) cos(2 (2k+1) theta)) / 2 fitted to each noisy curve "
+                   "(k = 0.." + std::to_string(kmax) + ", exact probabilities):\n\n| noise | fitted a | decay r per A |\n|---|---|---|\n" +
+                   fits + "\n![Grover oscillation](noise_oscillation.svg)\n\n![MLAE convergence](noise_convergence.svg)\n";
   qrm::io::write_csv(out / "noise_oscillation.csv", osc);
   qrm::io::write_csv(out / "noise_estimators.csv", est);
   qrm::io::write_svg(out / "noise_oscillation.svg", plot);
+  qrm::io::write_csv(out / "noise_convergence.csv", conv);
+  qrm::io::write_svg(out / "noise_convergence.svg", cplot);
   qrm::io::write_file_atomically(out / "noise.md", md);
   std::printf("%s\n", json.c_str());
   return 0;

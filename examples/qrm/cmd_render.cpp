@@ -34,6 +34,16 @@ flag_table render_flags() {
        "apply every Grover iteration to the state, or read P(out=1) once and use the sin^2 law; "
        "auto: simulated in 2D, analytic in 3D",
        img},
+      {"noise", "depolarizing:P1[,P2]|superconducting|ion", "",
+       "2D: estimate on a noisy quantum computer (P1 per single-qubit gate, P2 per CNOT; presets in "
+       "include/qrm/noise/model.hpp), as quantum trajectories",
+       img},
+      {"trajectories", "N", "20", "with --noise: quantum trajectories per cell and channel", img},
+      {"noise-level", "logical|gates|global", "logical",
+       "with --noise: trajectories with one Pauli channel per logical op (rate from its decomposition), or with noise "
+       "on every gate of the decomposed circuit (slow); global: no trajectories, each run of A or Q fully "
+       "depolarizes with its decomposition's error probability (closed form, any size)",
+       img},
       {"out", "DIR", "out", "output directory (created)", run},
       {"tile", "I/N", "", "render only tile I of N (0 <= I < N); put the tiles together with qrm merge", run},
       {"seed", "S", "1", "random seed (integer >= 0); pixel p uses stream (S, p)", run},

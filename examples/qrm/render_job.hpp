@@ -57,6 +57,11 @@ struct render_settings {
     if (grover == "simulated" || (grover == "auto" && dims == 2)) return qrm::render::grover_mode::simulated;
     return qrm::render::grover_mode::analytic;
   }
+  // --noise: 2D light maps estimated on a noisy quantum computer (quantum trajectories).
+  std::optional<qrm::noise_model> noise;
+  std::string noise_text;               // as given, for the summary
+  std::size_t trajectories = 20;
+  qrm::noise_level noise_level = qrm::noise_level::logical;
   std::uint64_t seed = 1;
   std::string out = "out";
   qrm::render::tile part{};
@@ -114,6 +119,32 @@ inline std::optional<qrm::march_mode> march_flag(args& a) {
   return m == "voxel" ? qrm::march_mode::voxel : qrm::march_mode::surface;
 }
 
+// --noise depolarizing:P1[,P2] | superconducting | ion (P2 = P1 when not given).
+inline qrm::noise_model parse_noise_flag(const std::string& v) {
+  if (v == "superconducting" || v == "ion") return qrm::noise_preset(v);
+  const std::string prefix = "depolarizing:";
+  auto bad = [&] {
+    return usage_error("--noise must be depolarizing:P1[,P2] (error rates in [0, 1]), superconducting or ion; got '" +
+                       v + "'");
+  };
+  if (v.rfind(prefix, 0) != 0) throw bad();
+  std::vector<double> p;
+  std::stringstream ss(v.substr(prefix.size()));
+  for (std::string item; std::getline(ss, item, ',');) {
+    std::size_t used = 0;
+    double x = -1;
+    try {
+      x = std::stod(item, &used);
+    } catch (const std::exception&) {
+      throw bad();
+    }
+    if (used != item.size() || !(x >= 0 && x <= 1)) throw bad();
+    p.push_back(x);
+  }
+  if (p.empty() || p.size() > 2) throw bad();
+  return qrm::depolarizing_noise(p[0], p.size() == 2 ? p[1] : p[0]);
+}
+
 inline render_settings parse_render_settings(args& a) {
   render_settings s;
   s.scene = a.str("scene", s.scene);
@@ -138,6 +169,17 @@ inline render_settings parse_render_settings(args& a) {
   s.grover = a.str("grover", "auto");
   if (s.grover != "auto" && s.grover != "simulated" && s.grover != "analytic")
     throw usage_error("--grover must be simulated, analytic or auto, got '" + s.grover + "'");
+  if (a.has("noise")) {
+    s.noise_text = a.str("noise", "");
+    s.noise = parse_noise_flag(s.noise_text);
+  }
+  s.trajectories = static_cast<std::size_t>(a.integer("trajectories", 20, 1, 1000000));
+  const std::string level = a.str("noise-level", "logical");
+  if (level != "logical" && level != "gates" && level != "global")
+    throw usage_error("--noise-level must be logical, gates or global, got '" + level + "'");
+  s.noise_level = level == "gates"    ? qrm::noise_level::gates
+                  : level == "global" ? qrm::noise_level::global
+                                      : qrm::noise_level::logical;
   s.seed = static_cast<std::uint64_t>(a.integer("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
   s.out = a.str("out", s.out);
   if (a.has("tile")) s.part = parse_tile(a.str("tile", ""));
@@ -179,6 +221,13 @@ inline qrm::scene load_render_scene(const render_settings& s) {
 // Flags that do not apply to the scene or the methods chosen are errors, never silently ignored.
 inline void check_render_flags_apply(const args& a, const render_settings& s, const qrm::scene& sc) {
   const std::string scene = "--scene " + s.scene;
+  for (const char* f : {"trajectories", "noise-level"})
+    if (a.has(f) && !a.has("noise")) throw usage_error(std::string("--") + f + " applies with --noise; give --noise");
+  if (a.has("noise") && sc.dims() == 3)
+    throw usage_error("--noise applies to 2D light maps (one noisy amplitude estimate per cell and channel); " + scene +
+                      " is 3D");
+  if (a.has("noise") && s.grover == "analytic")
+    throw usage_error("--noise runs the noisy circuit as quantum trajectories; --grover analytic reads the ideal state");
   if (sc.dims() == 2) {
     for (const char* f : {"width", "height", "voxels", "directions", "fractional-bits", "paths", "method"})
       if (a.has(f))
@@ -265,6 +314,12 @@ inline json_object settings_json(const render_settings& s, const qrm::scene& sc,
   }
   j.add("march", qrm::march_name(s.march_for(sc)));
   j.add("grover", s.grover_for(sc.dims()) == qrm::render::grover_mode::simulated ? "simulated" : "analytic");
+  if (s.noise) {
+    j.add("noise", s.noise_text).add("trajectories", s.trajectories);
+    j.add("noise_level", s.noise_level == qrm::noise_level::gates    ? "gates"
+                         : s.noise_level == qrm::noise_level::global ? "global"
+                                                                     : "logical");
+  }
   return j.add("estimator", s.estimator_json);
 }
 
@@ -309,6 +364,9 @@ inline lightmap_summary render_lightmap(const render_settings& s, const qrm::sce
   o.steps = steps;
   o.estimator = s.estimator;
   o.grover = s.grover_for(2);
+  o.noise = s.noise;
+  o.noisy.trajectories = s.trajectories;
+  o.noisy.level = s.noise_level;
   o.seed = s.seed;
   o.threads = s.threads;
   o.part = s.part;

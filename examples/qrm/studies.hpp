@@ -134,13 +134,17 @@ std::vector<error_point> estimator_curve(const std::vector<study_cell>& cells,
     out.push_back(detail::measure_point(std::string(estimator_name(s.kind)), label, cells, so,
                                         [&, &s = s](const study_cell& c, rng& g) {
                                           estimation_result r;
+                                          // any_oracle: the estimators compiled once, not per oracle type
                                           if (so.grover == grover_mode::analytic) {
-                                            analytic_oracle o(c.exact);
+                                            any_oracle o(analytic_oracle(c.exact));
                                             r = estimate_amplitude(o, s, g);
                                           } else {
                                             r = with_simulated_oracle<F>(
                                                 estimation_problem{c.program.circuit, {control{c.program.out, true}}},
-                                                [&](auto& o) { return estimate_amplitude(o, s, g); });
+                                                [&](auto& o) {
+                                                  any_oracle held(std::move(o));
+                                                  return estimate_amplitude(held, s, g);
+                                                });
                                           }
                                           return std::pair<double, double>{
                                               (r.estimate - c.exact) * c.radiance_scale,

@@ -3,7 +3,8 @@
 //   noise/channels.hpp      noisy_circuit: a circuit's gates and channels as events, at gate level
 //                           (decomposed, ASAP schedule) or logical level (one channel per op)
 //   noise/trajectories.hpp  quantum trajectories on the dense backend, readout-aware probabilities
-//   noise/oracle.hpp        noisy_oracle: p_k of Q^k A under noise, for every estimator
+//   noise/oracle.hpp        noisy_oracle (trajectories) and global_noise_oracle (closed form): p_k
+//                           of Q^k A under noise, for every estimator
 #pragma once
 
 #include "noise/model.hpp"

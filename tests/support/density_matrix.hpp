@@ -18,7 +18,7 @@ namespace qrm_test {
 class density_matrix {
  public:
   using cx = std::complex<double>;
-  explicit density_matrix(unsigned n) : n_(n), d_(std::uint64_t{1} << n), rho_(d_ * d_) { rho_[0] = 1; }
+  explicit density_matrix(unsigned n) : d_(std::uint64_t{1} << n), rho_(d_ * d_) { rho_[0] = 1; }
 
   cx& at(std::uint64_t r, std::uint64_t c) { return rho_[r * d_ + c]; }
   cx at(std::uint64_t r, std::uint64_t c) const { return rho_[r * d_ + c]; }
@@ -132,7 +132,6 @@ class density_matrix {
     rho_ = out;
   }
 
-  unsigned n_;
   std::uint64_t d_;
   std::vector<cx> rho_;
 };

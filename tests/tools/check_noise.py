@@ -9,7 +9,10 @@ On a paper_4x4 cell (1 step, a = 1/4, logical level, 100 trajectories):
 - the noise shows: at every rate the noisy peak (k = 1, ideal 1) is lower than ideal by more than
   3 standard errors, and lower at the higher rate;
 - noise_estimators.csv has every estimator at every rate; the SVG passes check_svg.py;
-- the same seed gives byte-identical CSVs with 1 and 2 threads.
+- the same seed gives byte-identical CSVs with 1 and 2 threads;
+- `qrm render --noise`: the global model at rate 0 gives the light map of the ideal analytic
+  oracle cell for cell (the same p_k, bit for bit); at p2 = 1e-4 its RMSE is over 10x the ideal
+  one; two logical trajectories per cell run and the summary records the noise.
 """
 import csv
 import json
@@ -69,6 +72,25 @@ def main():
     for f in ("noise_oscillation.csv", "noise_estimators.csv"):
         if open(os.path.join(out1, f), "rb").read() != open(os.path.join(out2, f), "rb").read():
             failures.append(f + " differs between 1 and 2 threads")
+    def render(name, *flags):
+        d = os.path.join(work, "noise_render_" + name)
+        r = subprocess.run([qrm, "render", "--scene", "paper_4x4", "--out", d, "--quiet", *flags],
+                           capture_output=True, text=True)
+        if r.returncode != 0:
+            sys.exit("qrm render %s: exit %d: %s" % (" ".join(flags), r.returncode, r.stderr))
+        return json.loads(r.stdout), open(os.path.join(d, "paper_4x4_lightmap.csv"), "rb").read()
+
+    ideal, ideal_csv = render("ideal", "--grover", "analytic")
+    zero, zero_csv = render("zero", "--noise", "depolarizing:0", "--noise-level", "global")
+    if zero_csv != ideal_csv:
+        failures.append("global noise at rate 0 does not reproduce the ideal analytic light map")
+    noisy, _ = render("global", "--noise", "depolarizing:1e-5,1e-4", "--noise-level", "global")
+    if not noisy["rmse_vs_exact"] > 10 * ideal["rmse_vs_exact"]:
+        failures.append("global noise at p2=1e-4: RMSE %g is not 10x the ideal %g" % (noisy["rmse_vs_exact"], ideal["rmse_vs_exact"]))
+    traj, _ = render("logical", "--noise", "depolarizing:1e-6,1e-5", "--trajectories", "2")
+    settings = traj["settings"]
+    if settings.get("noise") != "depolarizing:1e-6,1e-5" or settings.get("trajectories") != 2 or settings.get("noise_level") != "logical":
+        failures.append("the summary does not record the noise: %s" % settings)
     for f in failures:
         print("FAIL:", f)
     if failures:

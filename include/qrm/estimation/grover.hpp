@@ -114,4 +114,18 @@ inline program coin_program(const estimation_problem& e, double l) {
   return p;
 }
 
+// coin_iteration(problem, l): the quantum coin's iterate G = C S0 C^dagger S0 (S0 acts first) on
+// C = coin_program(problem, l); n of them on |0...0> leave it with the head probability.
+template <int = 0>
+inline program coin_iteration(const estimation_problem& e, double l) {
+  const program c = coin_program(e, l);
+  const std::size_t w = c.width();
+  program g(w);
+  g.append(zero_reflection(w));
+  g.append(c.adjoint());
+  g.append(zero_reflection(w));
+  g.append(c);
+  return g;
+}
+
 }  // namespace qrm

@@ -6,6 +6,7 @@
 //   analytic_oracle            p_k = sin^2((2k+1) theta), a = sin^2 theta, from a once-computed a
 //   simulated_oracle<Backend>  applies Q^k A for real on a backend, continuing from Q^(k-1) A
 //   with_simulated_oracle<F>   a simulated_oracle on the backend that family F picks for the problem
+//   any_oracle                 any of them (or another amplitude_oracle) behind one type
 #pragma once
 
 #include <algorithm>
@@ -15,11 +16,13 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -156,13 +159,8 @@ class simulated_oracle {
   double coin_probability(double l, std::uint64_t n) {
     const auto key = std::make_pair(l, n);
     if (auto it = coin_cache_.find(key); it != coin_cache_.end()) return it->second;
-    const program c = coin_program(e_, l);
-    const std::size_t w = c.width();
-    program g(w);
-    g.append(zero_reflection(w));
-    g.append(c.adjoint());
-    g.append(zero_reflection(w));
-    g.append(c);
+    const program g = coin_iteration(e_, l);
+    const std::size_t w = g.width();
     Backend b = make_(w);
     for (std::uint64_t i = 0; i < n; ++i) {
       run(b, g);
@@ -204,5 +202,39 @@ auto with_simulated_oracle(const estimation_problem& e, Fn&& f) {
     return f(oracle);
   });
 }
+
+// any_oracle: any amplitude_oracle behind one type. Code that picks an oracle at run time (the
+// renderer: ideal, noisy, ...) runs the estimators on this one type, so each estimator is compiled
+// once and not once per oracle type. Copies share the oracle (and its caches).
+template <int = 0>
+class basic_any_oracle {
+ public:
+  template <class O>  // the first test keeps copies from checking amplitude_oracle<basic_any_oracle>
+    requires(!std::same_as<std::remove_cvref_t<O>, basic_any_oracle> && amplitude_oracle<O>)
+  explicit basic_any_oracle(O o) : self_(std::make_shared<held<O>>(std::move(o))) {}
+
+  double probability(std::uint64_t k) { return self_->probability(k); }
+  double coin_probability(double l, std::uint64_t n) { return self_->coin_probability(l, n); }
+  basic_any_oracle rescaled(double s) const { return self_->rescaled(s); }
+
+ private:
+  struct base {
+    virtual ~base() = default;
+    virtual double probability(std::uint64_t) = 0;
+    virtual double coin_probability(double, std::uint64_t) = 0;
+    virtual basic_any_oracle rescaled(double) const = 0;
+  };
+  template <class O>
+  struct held final : base {
+    explicit held(O o) : oracle(std::move(o)) {}
+    double probability(std::uint64_t k) override { return oracle.probability(k); }
+    double coin_probability(double l, std::uint64_t n) override { return oracle.coin_probability(l, n); }
+    basic_any_oracle rescaled(double s) const override { return basic_any_oracle(O(oracle.rescaled(s))); }
+    O oracle;
+  };
+  std::shared_ptr<base> self_;
+};
+
+using any_oracle = basic_any_oracle<>;
 
 }  // namespace qrm

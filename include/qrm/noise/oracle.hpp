@@ -13,6 +13,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -32,7 +33,9 @@
 
 namespace qrm {
 
-enum class noise_level : unsigned char { gates, logical };
+// gates: trajectories of the decomposed circuit; logical: trajectories of the logical circuit;
+// global: no simulation of errors at all (global_noise_oracle below).
+enum class noise_level : unsigned char { gates, logical, global };
 
 struct noisy_oracle_options : trajectory_options {
   noise_level level = noise_level::gates;
@@ -48,7 +51,16 @@ struct noisy_grover_circuits {
 template <int = 0>
 inline noisy_circuit noisy_circuit_of(const program& p, const noise_model& m, const noisy_oracle_options& o) {
   if (o.level == noise_level::gates) return gate_level_noise(decompose(p, o.decompose).circuit, m);
+  if (o.level == noise_level::global)
+    throw std::invalid_argument("noise_level::global simulates no circuit; use global_noise_oracle");
   return logical_level_noise(p, m, o.decompose);
+}
+
+// The depolarizing error probability of one run of p: what its decomposition's gate counts imply.
+template <int = 0>
+inline double implied_program_error(const program& p, const noise_model& m, decompose_options o = {}) {
+  const decomposed_counts c = decomposed_metrics(p, o);
+  return implied_error(m, c.single_qubit_count, c.cnot_count + 6 * c.toffoli_count);
 }
 
 template <int = 0>
@@ -60,9 +72,11 @@ inline noisy_grover_circuits noisy_grover_circuits_of(const estimation_problem& 
   return c;
 }
 
-class noisy_oracle {
+// A class template only so that its members are compiled where used (see qrm.hpp).
+template <int = 0>
+class basic_noisy_oracle {
  public:
-  noisy_oracle(estimation_problem e, noise_model m, noisy_oracle_options o = {})
+  basic_noisy_oracle(estimation_problem e, noise_model m, noisy_oracle_options o = {})
       : e_(std::move(e)), m_(std::move(m)), o_(o), c_(noisy_grover_circuits_of(e_, m_, o_)) {
     if (m_.is_ideal()) o_.trajectories = 1;  // every trajectory would be the same
   }
@@ -104,20 +118,15 @@ class noisy_oracle {
   }
 
   // The same problem with a * s^2 (an extra rotated ancilla, noisy like every other gate).
-  noisy_oracle rescaled(double s) const { return noisy_oracle(rescaled_problem(e_, s), m_, o_); }
+  basic_noisy_oracle rescaled(double s) const { return basic_noisy_oracle(rescaled_problem(e_, s), m_, o_); }
 
   // Head probability of the quantum coin (qcoin.hpp) after n noisy coin iterations: 1 - P(all
   // of the coin circuit's qubits read 0).
   double coin_probability(double l, std::uint64_t n) {
     const auto key = std::make_pair(l, n);
     if (auto it = coin_cache_.find(key); it != coin_cache_.end()) return it->second;
-    const program c = coin_program(e_, l);
-    const std::size_t w = c.width();
-    program g(w);
-    g.append(zero_reflection(w));
-    g.append(c.adjoint());
-    g.append(zero_reflection(w));
-    g.append(c);
+    const program g = coin_iteration(e_, l);
+    const std::size_t w = g.width();
     const noisy_circuit ng = noisy_circuit_of(g, m_, o_);
     std::vector<control> zero;
     for (qubit_index q = 0; q < w; ++q) zero.push_back({q, false});
@@ -148,5 +157,59 @@ class noisy_oracle {
   std::uint64_t grover_iterations_ = 0;
   std::map<std::pair<double, std::uint64_t>, double> coin_cache_;
 };
+
+using noisy_oracle = basic_noisy_oracle<>;
+
+// global_noise_oracle(problem, model): the cheapest model, for circuits too wide for trajectories
+// (Tanaka et al. 2021): each run of A, or of Q, either works perfectly or (with the error
+// probability its decomposition implies, implied_program_error) leaves the register maximally
+// mixed. So p_k = L_k sin^2((2k+1) theta) + (1 - L_k) 2^-g with L_k = (1 - e_A)(1 - e_Q)^k and g
+// good qubits, then readout flips. It needs only a = P(good) from one ideal run. It ignores that
+// local errors leave most of the state intact (the logical-level trajectories show the noisy
+// walk drifting to its own level, not to 2^-g), so it is an approximation to be compared with
+// them where both run (README).
+template <int = 0>
+class basic_global_noise_oracle {
+ public:
+  basic_global_noise_oracle(estimation_problem e, noise_model m, double a, decompose_options o = {})
+      : e_(std::move(e)), m_(std::move(m)), o_(o), a_(a), theta_(detail::amplitude_angle(a)) {
+    validate(m_);
+    detail::check_good(e_.good, e_.a.width(), "global_noise_oracle");
+    if (m_.readout > 0 && e_.good.size() > 1)
+      throw std::invalid_argument("global_noise_oracle: readout errors are modelled for a single good qubit");
+    fa_ = 1 - implied_program_error(e_.a, m_, o_);
+    fq_ = 1 - implied_program_error(grover_operator(e_), m_, o_);
+    mixed_ = std::ldexp(1.0, -static_cast<int>(e_.good.size()));
+  }
+  double survival_a() const { return fa_; }  // 1 - e_A
+  double survival_q() const { return fq_; }  // 1 - e_Q
+
+  double probability(std::uint64_t k) const {
+    const double l = fa_ * std::pow(fq_, static_cast<double>(k));
+    const double p = l * detail::amplified_probability(theta_, k) + (1 - l) * mixed_;
+    return p * (1 - m_.readout) + (1 - p) * m_.readout;
+  }
+  // The rescaled problem's a is a s^2; its circuits (one more rotation) are costed again.
+  basic_global_noise_oracle rescaled(double s) const {
+    return basic_global_noise_oracle(rescaled_problem(e_, s), m_, a_ * s * s, o_);
+  }
+  // The quantum coin under the same model: the coin circuit G^n survives with (1 - e_G)^n.
+  double coin_probability(double l, std::uint64_t n) const {
+    const program g = coin_iteration(e_, l);
+    const std::size_t w = g.width();
+    const double survive = std::pow(1 - implied_program_error(g, m_, o_), static_cast<double>(n));
+    const double ideal = detail::coin_head_probability(a_, l, n);
+    const double stay = survive * (1 - ideal) + (1 - survive) * std::ldexp(1.0, -static_cast<int>(w));
+    return 1 - stay;
+  }
+
+ private:
+  estimation_problem e_;
+  noise_model m_;
+  decompose_options o_;
+  double a_, theta_, fa_ = 1, fq_ = 1, mixed_ = 0.5;
+};
+
+using global_noise_oracle = basic_global_noise_oracle<>;
 
 }  // namespace qrm

@@ -6,6 +6,8 @@
 //                       every Grover iteration is applied to the state; with
 //                       grover_mode::analytic, a = P(out=1) is read once and P after k iterations
 //                       is sin^2((2k+1) theta): the same measurement statistics, far cheaper.
+//                       With a noise model, each (cell, channel) gets a noisy_oracle (noise/):
+//                       quantum trajectories of the noisy circuit, seeded from the cell's stream.
 //   render_quantum      a 3D image from the actual 3D walk circuit of each pixel's first hit,
 //                       simulated for real (the paper found this infeasible with a general
 //                       simulator and emulated it instead).
@@ -22,6 +24,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -33,6 +36,7 @@
 #include "../estimation/estimator.hpp"
 #include "../estimation/oracle.hpp"
 #include "../estimation/problem.hpp"
+#include "../noise/oracle.hpp"
 #include "../walk/lightmap.hpp"
 #include "../walk/circuit.hpp"
 #include "tiles.hpp"
@@ -46,6 +50,10 @@ struct quantum_options {
   unsigned steps = 3;
   estimator_settings estimator;  // default: FAE, maxiter 5, rescaling (the paper's choice)
   grover_mode grover = grover_mode::simulated;
+  // Noise (2D light maps): the estimator asks a noisy_oracle with these options (its seed and
+  // threads are set per cell: a draw from the cell's stream, one thread) instead of the ideal one.
+  std::optional<noise_model> noise;
+  noisy_oracle_options noisy;
   std::uint64_t seed = 1;
   unsigned threads = 0;                    // 0: the hardware's; results do not depend on it
   tile part{};                             // only these cells / pixels
@@ -93,7 +101,9 @@ quantum_estimate estimate_walk(const walk_model& m, const walk_start& start, int
   if (std::none_of(w.tables.term_kept.begin(), w.tables.term_kept.end(), [](bool k) { return k; })) return q;
   q.classical = path_sum(m, start, o.steps, channel) / q.radiance_scale;
   const estimation_problem problem{w.circuit, {control{w.out, true}}};
-  auto finish = [&](auto& oracle) {
+  // Every oracle reaches the estimator as an any_oracle: one instantiation of the estimators
+  // instead of one per oracle type (ideal, simulated real or complex, noisy).
+  auto finish = [&](any_oracle oracle) {
     const estimation_result r = estimate_amplitude(oracle, o.estimator, g);
     q.estimate = r.estimate;
     q.interval = r.confidence_interval;
@@ -106,11 +116,18 @@ quantum_estimate estimate_walk(const walk_model& m, const walk_start& start, int
   q.qubits = w.circuit.width();
   q.nonzeros = run.nonzeros;
   q.simulate_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (o.grover == grover_mode::simulated) {
-    with_simulated_oracle<F>(problem, finish);  // real for the 2D circuits; 3D coins may be complex
+  if (o.noise && o.noisy.level == noise_level::global) {
+    finish(any_oracle(global_noise_oracle(problem, *o.noise, q.exact, o.noisy.decompose)));
+  } else if (o.noise) {
+    noisy_oracle_options no = o.noisy;
+    no.seed = g();
+    no.threads = 1;  // cells run in parallel already
+    finish(any_oracle(noisy_oracle(problem, *o.noise, no)));
+  } else if (o.grover == grover_mode::simulated) {
+    // real for the 2D circuits; 3D coins may be complex
+    with_simulated_oracle<F>(problem, [&](auto& oracle) { finish(any_oracle(std::move(oracle))); });
   } else {
-    analytic_oracle oracle(q.exact);
-    finish(oracle);
+    finish(any_oracle(analytic_oracle(q.exact)));
   }
   return q;
 }
@@ -229,7 +246,7 @@ inline path_estimator amplitude_path_estimator(estimator_settings settings) {
     mean /= static_cast<double>(std::max<std::size_t>(1, f.size()));
     if (mean == 0) return 0.0;  // the K-path state has no term that can fire: P(out = 1) = 0
     const double scale = static_cast<double>(steps) * emission_scale;
-    analytic_oracle oracle(std::clamp(mean / scale, 0.0, 1.0));
+    any_oracle oracle(analytic_oracle(std::clamp(mean / scale, 0.0, 1.0)));
     return estimate_amplitude(oracle, settings, g).estimate * scale;
   };
 }
