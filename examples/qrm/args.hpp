@@ -9,12 +9,31 @@
 #include <cstdint>
 #include <cstdlib>
 #include <map>
+#include <optional>
+#include <algorithm>
 #include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace qrm_cli {
+
+// number_list("1e-5,1e-4"): the comma-separated numbers, or nothing if an item is empty or not
+// a whole number text; each caller says what its flag expects.
+inline std::optional<std::vector<double>> number_list(const std::string& text) {
+  std::vector<double> out;
+  std::size_t begin = 0;
+  for (;;) {
+    const std::size_t end = std::min(text.find(',', begin), text.size());
+    const std::string item = text.substr(begin, end - begin);
+    char* stop = nullptr;
+    const double v = item.empty() ? 0.0 : std::strtod(item.c_str(), &stop);
+    if (item.empty() || stop != item.c_str() + item.size()) return std::nullopt;
+    out.push_back(v);
+    if (end == text.size()) return out;
+    begin = end + 1;
+  }
+}
 
 struct usage_error : std::runtime_error {
   using std::runtime_error::runtime_error;

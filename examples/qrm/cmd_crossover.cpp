@@ -85,13 +85,6 @@ std::vector<std::pair<std::string, qrm::estimator_settings>> quantum_sweep() {
   return out;
 }
 
-// Three significant digits, for people.
-std::string short_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
-
 }  // namespace
 
 flag_table crossover_flags() {

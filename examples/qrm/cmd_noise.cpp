@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -35,28 +34,12 @@ namespace fs = std::filesystem;
 namespace {
 
 std::vector<double> parse_rates(const std::string& text) {
-  std::vector<double> out;
-  std::stringstream ss(text);
-  for (std::string item; std::getline(ss, item, ',');) {
-    std::size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != item.size() || item.empty() || !(v > 0 && v < 1))
-      throw usage_error("--rates: '" + item + "' is not an error rate in (0, 1) (give e.g. --rates 1e-5,1e-4)");
-    out.push_back(v);
-  }
-  if (out.empty()) throw usage_error("--rates is empty");
-  return out;
-}
-
-std::string short_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
+  const auto rates = number_list(text);
+  if (!rates) throw usage_error("--rates: '" + text + "' is not a comma-separated list of numbers (give e.g. --rates 1e-5,1e-4)");
+  for (double v : *rates)
+    if (!(v > 0 && v < 1))
+      throw usage_error("--rates: '" + short_number(v) + "' is not an error rate in (0, 1) (give e.g. --rates 1e-5,1e-4)");
+  return *rates;
 }
 
 // The estimators compared on each noisy oracle (FAE without rescaling: the oracle of a rescaled

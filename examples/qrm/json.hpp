@@ -19,6 +19,13 @@ namespace qrm_cli {
 // not finite (JSON has no inf or nan).
 inline std::string json_number(double x) { return std::isfinite(x) ? qrm::io::csv_number(x) : "null"; }
 
+// short_number(x): three significant digits, for the Markdown reports people read.
+inline std::string short_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
 // json_string(s): s as a JSON string literal, quotes included.
 inline std::string json_string(std::string_view s) {
   std::string out = "\"";

@@ -128,21 +128,11 @@ inline qrm::noise_model parse_noise_flag(const std::string& v) {
                        v + "'");
   };
   if (v.rfind(prefix, 0) != 0) throw bad();
-  std::vector<double> p;
-  std::stringstream ss(v.substr(prefix.size()));
-  for (std::string item; std::getline(ss, item, ',');) {
-    std::size_t used = 0;
-    double x = -1;
-    try {
-      x = std::stod(item, &used);
-    } catch (const std::exception&) {
-      throw bad();
-    }
-    if (used != item.size() || !(x >= 0 && x <= 1)) throw bad();
-    p.push_back(x);
-  }
-  if (p.empty() || p.size() > 2) throw bad();
-  return qrm::depolarizing_noise(p[0], p.size() == 2 ? p[1] : p[0]);
+  const auto p = number_list(v.substr(prefix.size()));
+  if (!p || p->size() > 2) throw bad();
+  for (double x : *p)
+    if (!(x >= 0 && x <= 1)) throw bad();
+  return qrm::depolarizing_noise((*p)[0], p->size() == 2 ? (*p)[1] : (*p)[0]);
 }
 
 inline render_settings parse_render_settings(args& a) {

@@ -168,13 +168,14 @@ estimation_result maximum_likelihood_amplitude_estimation(O& oracle, const mlae_
     const double K = 2.0 * static_cast<double>(rr.power) + 1.0;
     fisher += 4.0 * static_cast<double>(rr.shots) * K * K;
   }
-  double theta = detail::mlae_staged_search(sorted, 0.0).first;
+  const std::pair<double, double> undamped = detail::mlae_staged_search(sorted, 0.0);
+  double theta = undamped.first;
   double sigma = 1.0 / std::sqrt(fisher);
   if (opt.noise_aware) {
     r.estimator = "mlae_noise_aware";
     auto profile = [&](double rate) { return detail::mlae_staged_search(sorted, rate); };
     double best_rate = 0;
-    std::pair<double, double> best = profile(0.0);
+    std::pair<double, double> best = undamped;
     std::vector<double> grid{0.0};
     for (int j = 0; j <= 40; ++j) grid.push_back(1e-4 * std::pow(10.0, j / 10.0));
     std::size_t best_j = 0;
