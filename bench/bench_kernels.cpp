@@ -2,7 +2,8 @@
 //
 // Counter `bw_fraction`: bytes that must move (read + write of the amplitudes the kernel
 // touches) per second, divided by the memcpy bandwidth (read + write) measured at the start of
-// the same run on a buffer as large as the largest state.
+// the same run on a buffer as large as the largest state; `stream_fraction` the same against an
+// in-place stream (each float scaled where it lies), the bound for an in-place kernel.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -54,9 +55,30 @@ qrm::state_vector<S>& state(int n, unsigned threads) {
   return *s;
 }
 
+// In-place stream bandwidth (bytes read + written per second): every float of a 2^26
+// complex<float> buffer scaled in place, best of several passes. A kernel that reads and writes
+// each amplitude once can at best match it.
+double inplace_stream_bandwidth() {
+  static const double bw = [] {
+    std::vector<float> a(std::size_t{2} << kMaxQubits, 1.0f);
+    double best = 1e300;
+    for (int r = 0; r < 6; ++r) {
+      const auto t0 = std::chrono::steady_clock::now();
+      for (float& x : a) x *= 0.999f;
+      benchmark::DoNotOptimize(a.data());
+      const auto t1 = std::chrono::steady_clock::now();
+      best = std::min(best, std::chrono::duration<double>(t1 - t0).count());
+    }
+    return 2.0 * static_cast<double>(a.size() * sizeof(float)) / best;
+  }();
+  return bw;
+}
+
 void report(benchmark::State& st, double bytes_per_iteration) {
   st.counters["bw_fraction"] = benchmark::Counter(bytes_per_iteration / memcpy_bandwidth(),
                                                   benchmark::Counter::kIsIterationInvariantRate);
+  st.counters["stream_fraction"] = benchmark::Counter(bytes_per_iteration / inplace_stream_bandwidth(),
+                                                      benchmark::Counter::kIsIterationInvariantRate);
   st.counters["GB/s"] = benchmark::Counter(bytes_per_iteration / 1e9, benchmark::Counter::kIsIterationInvariantRate);
   st.counters["memcpy_GB/s"] = memcpy_bandwidth() / 1e9;
 }
@@ -73,6 +95,18 @@ void BM_gate1(benchmark::State& st) {
   const auto target = static_cast<qrm::qubit_index>(st.range(1) == 0 ? 0 : st.range(1) == 1 ? n / 2 : n - 1);
   auto& s = state<S>(n, static_cast<unsigned>(st.range(2)));
   const qrm::gate1 g = qrm::gate::ry(0.3);
+  for (auto _ : st) s.apply_gate1(g, target, {});
+  report(st, 2.0 * std::ldexp(sizeof(S), n));
+  touch_bytes_label<S>(st, n);
+}
+
+// A generic complex 2x2 gate on qubit `target` (args as BM_gate1).
+template <class S>
+void BM_gate1_generic(benchmark::State& st) {
+  const int n = static_cast<int>(st.range(0));
+  const auto target = static_cast<qrm::qubit_index>(st.range(1) == 0 ? 0 : st.range(1) == 1 ? n / 2 : n - 1);
+  auto& s = state<S>(n, static_cast<unsigned>(st.range(2)));
+  const qrm::gate1 g = qrm::gate::u(cd(0.6, 0.0), cd(0.0, 0.8), cd(0.0, 0.8), cd(0.6, 0.0));
   for (auto _ : st) s.apply_gate1(g, target, {});
   report(st, 2.0 * std::ldexp(sizeof(S), n));
   touch_bytes_label<S>(st, n);
@@ -145,6 +179,7 @@ void sizes_and_threads(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_gate1<cd>)->ArgNames({"n", "target", "threads"})->ArgsProduct({{20, 22, 24, 26}, {0, 1, 2}, {1, 2}})->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_gate1<std::complex<float>>)->ArgNames({"n", "target", "threads"})->ArgsProduct({{26}, {0, 1, 2}, {1, 2}})->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_gate1_generic<std::complex<float>>)->ArgNames({"n", "target", "threads"})->ArgsProduct({{26}, {0, 1, 2}, {1, 2}})->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_gate1<double>)->ArgNames({"n", "target", "threads"})->ArgsProduct({{26}, {0, 1, 2}, {1, 2}})->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_gate1_complex)->ArgNames({"n", "threads"})->Apply(sizes_and_threads)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_mcx)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{20, 22, 24, 26}, {1, 4, 8, 12}, {0, 1}, {1, 2}})->UseRealTime()->Unit(benchmark::kMicrosecond);
