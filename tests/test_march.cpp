@@ -239,6 +239,21 @@ TEST_CASE("surface march: the history variant's P(out = 1) is the classical path
     CHECK(starts.size() > 50);
     check(m, starts, 4);
   }
+  SUBCASE("3D Cornell box 16^3, 14 directions, 4 bounces, starts drawn from every voxel and direction") {
+    // Beyond what a camera sees: any non-air voxel with any incoming direction (facing away from
+    // the camera, inside the blocks' walls, into a surface), 400 drawn uniformly from them all.
+    const qrm::scene sc = qrm::render::cornell_box(16);
+    const qrm::walk_model m(sc, qrm::cube_directions(14, 2), qrm::march_mode::surface);
+    std::vector<std::pair<std::size_t, int>> all;
+    for (std::size_t i = 0; i < sc.voxel_count(); ++i)
+      if (sc[i].kind != qrm::material::air)
+        for (int d = 0; d < 14; ++d) all.push_back({i, d});
+    CHECK(all.size() > 10000);
+    qrm::rng g(7);
+    std::vector<qrm::walk_start> starts;
+    for (int k = 0; k < 400; ++k) starts.push_back(qrm::detail::render_start_of(sc, all[g.below(all.size())]));
+    check(m, starts, 4);
+  }
   // Mirrors and glossy surfaces: the coins flow through the model into both the circuit and the
   // path sum (which uses |U_ed|^2 of the same matrices).
   SUBCASE("2D room with a mirror block and a glossy wall cell, every cell, 3 steps") {

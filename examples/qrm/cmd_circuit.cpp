@@ -47,6 +47,7 @@ flag_table circuit_flags() {
       {"x", "X", "0", "the start cell's column", g},
       {"y", "Y", "0", "the start cell's row", g},
       {"steps", "S", "3", "walk steps, 1..16", g},
+      march_flag_row(g),
       {"variant", "faithful|history", "faithful", "the paper's circuit, or the one that keeps each step's direction", g},
       {"prune", "none|scene|reachable", "reachable", "the pruning level reported first and written by --qasm (all levels are listed)", g},
       {"channel", "C", "0", "colour channel 0, 1, 2 (R, G, B)", g},
@@ -68,20 +69,22 @@ int cmd_circuit(args& a) {
   const bool decomposed_qasm = a.flag("decomposed");
   if (decomposed_qasm && !a.has("qasm")) throw usage_error("--decomposed applies to --qasm FILE; give --qasm");
 
-  const qrm::walk_model m(sc, qrm::king_2d());
+  const qrm::walk_model m(sc, qrm::king_2d(), march_for(march_flag(a), sc));
   const qrm::walk_start start = m.light_map_start(cell);
   const auto w = qrm::make_walk_program(m, start, o);
   const level_report chosen{qrm::circuit_metrics_of(w.circuit), qrm::decomposed_metrics(w.circuit)};
 
   // The paper's width formula (Section 6): 2 log2 p (position) + log2 d (direction) + s (Le)
-  // + (s - 1) (rho) + ceil(log2 s) (steps) + 1 (out) [+ (s - 1) log2 d history qubits].
+  // + (s - 1) (rho) + ceil(log2 s) (steps) + 1 (out) [+ (s - 1) log2 d history qubits]; the
+  // surface march adds a distance register per step.
   const unsigned s = o.steps, p_bits = sc.position_bits(), d_bits = 3;
   const std::size_t formula_width = 2 * p_bits + d_bits + s + (s - 1) + qrm::steps_register_bits(s) + 1 +
-                                    (o.variant == qrm::walk_variant::history ? (s - 1) * d_bits : 0);
+                                    (o.variant == qrm::walk_variant::history ? (s - 1) * d_bits : 0) +
+                                    std::size_t{s} * m.distance_bits();
 
   json_object j;
   j.add("scene", sc.name()).add("x", cell[0]).add("y", cell[1]).add("steps", s).add("variant", variant);
-  j.add("channel", o.channel).add("prune", qrm::pruning_name(o.prune));
+  j.add("channel", o.channel).add("prune", qrm::pruning_name(o.prune)).add("march", qrm::march_name(m.march()));
   add_level(j, chosen);
   j.add("formula_width", formula_width).add("full_width", w.full_width);
   json_array kept;

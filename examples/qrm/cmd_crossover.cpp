@@ -90,22 +90,17 @@ std::vector<std::pair<std::string, qrm::estimator_settings>> quantum_sweep() {
 flag_table crossover_flags() {
   const char* c = "cell";
   const char* r = "run and output";
-  flag_table f{
-      {"scene", "NAME|FILE", "paper_8x8", "paper_4x4, paper_8x8 (2D), cornell, spheres (3D) or a scene file", c},
-      {"voxels", "N", "8", "cornell, spheres: N^3 voxels (4..64)", c},
-      {"x", "X", "3 (3D: 16)", "2D: the cell's column; 3D: the pixel's column", c},
-      {"y", "Y", "4 (3D: 16)", "2D: the cell's row; 3D: the pixel's row", c},
-      {"width", "N", "32", "3D: the image the pixel belongs to (1..1024)", c},
-      {"height", "N", "32", "3D: the image the pixel belongs to (1..1024)", c},
+  flag_table f;
+  add_walk_target_flags(f, c);
+  const flag rest[] = {
       {"steps", "S", "3 in 2D, 6 in 3D", "walk steps (1..8)", c},
-      {"march", "voxel|surface", "the scene's, else surface in 3D (14 cube directions), voxel in 2D",
-       "how the walk moves: one voxel per step (the paper's) or one bounce per step", c},
       {"error", "E", "0.001", "the fault-tolerant error budget of each circuit run, in (0, 1)", c},
       {"repetitions", "R", "64", "seeded runs per budget setting (2..100000)", r},
       {"seed", "S", "1", "random seed (integer >= 0)", r},
       {"threads", "T", "0", "worker threads; 0 = all cores", r},
       {"out", "DIR", "crossover", "output directory (created): crossover.csv, crossover.md, crossover.svg", r},
   };
+  for (const flag& r : rest) f.push_back(r);
   add_progress_flags(f, r);
   return f;
 }
@@ -121,26 +116,11 @@ crossover_result run_crossover(const crossover_request& req) {
   const fs::path out = req.out;
   const qrm::io::progress_options po = req.progress;
   const bool three_d = sc.dims() == 3;
-  render_settings rs;
-  rs.scene = sc.name();
-  rs.width = req.width;
-  rs.height = req.height;
-  rs.methods = "quantum";
-  rs.march = req.march.value_or(sc.march().value_or(three_d ? qrm::march_mode::surface : qrm::march_mode::voxel));
-  const qrm::walk_model m(
-      sc, three_d ? qrm::sphere_directions(rs.directions_for(sc), rs.fractional_bits_for(sc)) : qrm::king_2d(), *rs.march);
+  const studied_walk studied = study_walk(sc, req.march, xy[0], xy[1], req.width, req.height);
+  const qrm::walk_model& m = studied.model;
+  const std::string& where = studied.where;
   cell_data cell;
-  std::string where = (three_d ? "pixel (" : "cell (") + std::to_string(xy[0]) + ", " + std::to_string(xy[1]) + ")";
-  if (three_d) {
-    const auto px = qrm::render::pixel_starts(m, scene_camera(rs, sc));
-    const qrm::render::pixel_start& hit = px[static_cast<std::size_t>(xy[1]) * req.width + xy[0]];
-    if (!hit.hit) throw usage_error(where + " of a " + std::to_string(req.width) + "x" + std::to_string(req.height) +
-                                    " image of " + sc.name() + " sees no voxel");
-    cell.start = qrm::detail::render_start_of(sc, {hit.voxel, hit.start.direction});
-    where += " of a " + std::to_string(req.width) + "x" + std::to_string(req.height) + " image";
-  } else {
-    cell.start = m.light_map_start(xy);
-  }
+  cell.start = studied.start;
   qrm::walk_options wo;
   wo.steps = steps;
   cell.program = qrm::make_walk_program(m, cell.start, wo);
@@ -341,24 +321,16 @@ crossover_result run_crossover(const crossover_request& req) {
 int cmd_crossover(args& a) {
   a.allow(crossover_flags());
   crossover_request r;
-  render_settings rs;
-  rs.scene = r.scene_arg = a.str("scene", "paper_8x8");
-  rs.voxels = static_cast<unsigned>(a.integer("voxels", 8, 4, 64));
-  r.scene = load_render_scene(rs);
-  const bool three_d = r.scene.dims() == 3;
-  if (!three_d)
-    for (const char* f : {"voxels", "width", "height"})
-      if (a.has(f)) throw usage_error(std::string("--") + f + " applies to 3D scenes; --scene " + rs.scene + " is 2D");
-  if (a.has("voxels") && rs.scene != "cornell" && rs.scene != "spheres")
-    throw usage_error("--voxels sets the size of the built-in 3D scenes (cornell, spheres), not of --scene " + rs.scene);
-  r.width = static_cast<unsigned>(a.integer("width", 32, 1, 1024));
-  r.height = static_cast<unsigned>(a.integer("height", 32, 1, 1024));
-  const auto nx = three_d ? static_cast<std::int64_t>(r.width) - 1 : static_cast<std::int64_t>(r.scene.size()) - 1;
-  const auto ny = three_d ? static_cast<std::int64_t>(r.height) - 1 : static_cast<std::int64_t>(r.scene.size()) - 1;
-  r.x = static_cast<unsigned>(a.integer("x", three_d ? r.width / 2 : 3, 0, nx));
-  r.y = static_cast<unsigned>(a.integer("y", three_d ? r.height / 2 : 4, 0, ny));
+  const walk_target target = walk_target_from_flags(a);
+  r.scene = target.scene;
+  r.scene_arg = target.view.scene;
+  r.width = target.view.width;
+  r.height = target.view.height;
+  r.x = target.x;
+  r.y = target.y;
+  r.march = target.march;
+  const bool three_d = target.three_d();
   r.steps = static_cast<unsigned>(a.integer("steps", three_d ? 6 : 3, 1, 8));
-  r.march = march_flag(a);
   r.error_budget = a.number("error", 1e-3);
   if (!(r.error_budget > 0 && r.error_budget < 1)) throw usage_error("--error must be in (0, 1), got " + a.str("error", ""));
   r.repetitions = static_cast<std::size_t>(a.integer("repetitions", 64, 2, 100000));

@@ -17,6 +17,7 @@ flag_table lightmap_flags() {
       {"scene", "NAME|FILE", "", "paper_4x4, paper_8x8 or a 2D scene file (required)", g},
       {"exact", "", "", "exact probabilities from the simulated state (required: estimated maps are qrm render's)", g},
       {"steps", "S", "3", "walk steps, 1..12", g},
+      march_flag_row(g),
       {"prune", "none|scene|reachable", "reachable", "drop the coin entries and qubits the scene never uses", g},
       {"backend", "dense|compact", "compact", "state vector over all qubits, or only the reachable basis states", g},
       {"format", "csv|json", "csv", "output on stdout", g},
@@ -40,7 +41,7 @@ int cmd_lightmap(args& a) {
   if (format != "csv" && format != "json") throw usage_error("--format must be csv or json, got '" + format + "'");
   if (backend != qrm::dense_backend::name && backend != qrm::compact_backend::name)
     throw usage_error("--backend must be dense or compact, got '" + backend + "'");
-  const qrm::walk_model model(sc, qrm::king_2d());
+  const qrm::walk_model model(sc, qrm::king_2d(), march_for(march_flag(a), sc));
   const auto cells = backend == qrm::dense_backend::name ? qrm::exact_lightmap<qrm::dense_backend>(model, o)
                                                          : qrm::exact_lightmap<qrm::compact_backend>(model, o);
   if (format == "csv") {

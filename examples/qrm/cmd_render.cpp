@@ -18,12 +18,9 @@ flag_table render_flags() {
   const char* run = "run and output";
   flag_table f = {
       {"scene", "NAME|FILE", "paper_8x8", "paper_4x4, paper_8x8 (2D light maps), cornell, spheres, cornell_mirror (a mirror sphere), cornell_glossy (a glossy one, lobe 2), cornell_fog (thin fog in the room) (3D), or a scene file", scene},
-      {"voxels", "N", "8", "cornell, spheres, cornell_mirror, cornell_glossy, cornell_fog: N^3 voxels, a power of two in 4..256", scene},
+      {"voxels", "N", "8; 32 for cornell_mirror and cornell_glossy", "cornell, spheres, cornell_mirror, cornell_glossy, cornell_fog: N^3 voxels, a power of two in 4..256", scene},
       {"steps", "S", "3 in 2D, 6 in 3D", "walk steps (1..16): voxels crossed (voxel march) or bounces (surface)", scene},
-      {"march", "voxel|surface", "the scene's, else surface",
-       "how the walk moves: voxel = one voxel per step (the paper's Section 4; paper_4x4 and paper_8x8 ask for it), "
-       "surface = one bounce per step (to the next non-air voxel)",
-       scene},
+      march_flag_row(scene),
       {"width", "N", "128", "image width in pixels (1..8192)", img},
       {"height", "N", "128", "image height in pixels (1..8192)", img},
       {"directions", "D", "64 (surface; 14 with --method quantum), 15 (voxel)", "directions, 6..256: 6, 14, 26 = the symmetric cube sets, any other D = a golden spiral (the authors used 15)", img},

@@ -40,7 +40,7 @@ namespace fs = std::filesystem;
 struct render_settings {
   std::string scene = "paper_8x8";
   unsigned width = 128, height = 128;  // 3D images
-  unsigned voxels = 8;                 // 3D built-in scenes: N^3 voxels
+  unsigned voxels = 8;                 // 3D built-in scenes: N^3 voxels (default_voxels)
   std::optional<qrm::march_mode> march;  // --march; else the scene's, else surface
   unsigned directions = 0;             // 3D: 0 = by march (surface: 64, voxel: the authors' 15)
   int fractional_bits = -1;            // 3D: -1 = by march (surface: 4, voxel: the authors' 3)
@@ -70,9 +70,7 @@ struct render_settings {
   float exposure = 1.0f;
 
   unsigned effective_steps(unsigned dims) const { return steps ? steps : (dims == 2 ? 3u : 6u); }
-  qrm::march_mode march_for(const qrm::scene& sc) const {
-    return march.value_or(sc.march().value_or(qrm::march_mode::surface));
-  }
+  qrm::march_mode march_for(const qrm::scene& sc) const { return qrm_cli::march_for(march, sc); }
   // 3D direction sets: for the surface march a golden spiral of 64 directions (a full 6-qubit
   // register; 26 king moves leave whole walls dark between their 45-degree light footprints)
   // with 4 sub-voxel bits (displacements round(16 v): each ray within about 2 degrees of its
@@ -111,14 +109,6 @@ inline qrm::render::tile parse_tile(const std::string& v) {
   }
 }
 
-// --march voxel|surface, if given.
-inline std::optional<qrm::march_mode> march_flag(args& a) {
-  if (!a.has("march")) return std::nullopt;
-  const std::string m = a.str("march", "");
-  if (m != "voxel" && m != "surface") throw usage_error("--march must be voxel or surface, got '" + m + "'");
-  return m == "voxel" ? qrm::march_mode::voxel : qrm::march_mode::surface;
-}
-
 // --noise depolarizing:P1[,P2] | superconducting | ion (P2 = P1 when not given).
 inline qrm::noise_model parse_noise_flag(const std::string& v) {
   if (v == "superconducting" || v == "ion") return qrm::noise_preset(v);
@@ -135,12 +125,19 @@ inline qrm::noise_model parse_noise_flag(const std::string& v) {
   return qrm::depolarizing_noise((*p)[0], p->size() == 2 ? (*p)[1] : (*p)[0]);
 }
 
+// A built-in 3D scene's size without --voxels: the paper's 8^3, except where a sphere must be a
+// mirror or a glossy ball rather than a few voxels (at 8^3 the 110 mm sphere is two voxels
+// across; at 32^3 it is eight, and its reflection of the red wall is recognisable).
+inline unsigned default_voxels(const std::string& scene) {
+  return scene == "cornell_mirror" || scene == "cornell_glossy" ? 32 : 8;
+}
+
 inline render_settings parse_render_settings(args& a) {
   render_settings s;
   s.scene = a.str("scene", s.scene);
   s.width = static_cast<unsigned>(a.integer("width", s.width, 1, 8192));
   s.height = static_cast<unsigned>(a.integer("height", s.height, 1, 8192));
-  s.voxels = static_cast<unsigned>(a.integer("voxels", s.voxels, 4, 256));
+  s.voxels = static_cast<unsigned>(a.integer("voxels", default_voxels(s.scene), 4, 256));
   if ((s.voxels & (s.voxels - 1)) != 0)
     throw usage_error("--voxels must be a power of two (the walk's position registers), got " + a.str("voxels", ""));
   s.march = march_flag(a);
@@ -430,6 +427,89 @@ inline qrm::render::camera scene_camera(const render_settings& s, const qrm::sce
                       "^3 voxels and has no camera block; the default (Cornell box) camera needs at least 8^3. "
                       "Add a line 'camera position X Y Z look_at X Y Z' (README: scene files)");
   return qrm::render::box_scene_camera(sc.size(), s.width, s.height);
+}
+
+// The flags that name the walk an analysis command (crossover, resources) studies, and their
+// parsing: --scene, --voxels, --x, --y, --width, --height, --march.
+inline void add_walk_target_flags(flag_table& f, const char* group) {
+  const flag rows[] = {
+      {"scene", "NAME|FILE", "paper_8x8",
+       "paper_4x4, paper_8x8 (2D), cornell, spheres, cornell_mirror, cornell_glossy, cornell_fog (3D) or a scene file",
+       group},
+      {"voxels", "N", "8; 32 for cornell_mirror and cornell_glossy",
+       "the built-in 3D scenes: N^3 voxels, a power of two in 4..256", group},
+      {"x", "X", "3 (3D: width / 2)", "2D: the cell's column; 3D: the pixel's column", group},
+      {"y", "Y", "4 (3D: height / 2)", "2D: the cell's row; 3D: the pixel's row", group},
+      {"width", "N", "32", "3D: the image the pixel belongs to (1..1024), walked as qrm render --method quantum", group},
+      {"height", "N", "32", "3D: the image the pixel belongs to (1..1024)", group},
+      march_flag_row(group),
+  };
+  for (const flag& r : rows) f.push_back(r);
+}
+struct walk_target {
+  render_settings view;  // scene name, voxels, width and height as parsed
+  qrm::scene scene;
+  unsigned x = 3, y = 4;
+  std::optional<qrm::march_mode> march;
+  bool three_d() const { return scene.dims() == 3; }
+};
+inline walk_target walk_target_from_flags(const args& a) {
+  walk_target t;
+  t.view.scene = a.str("scene", "paper_8x8");
+  t.view.voxels = static_cast<unsigned>(a.integer("voxels", default_voxels(t.view.scene), 4, 256));
+  if ((t.view.voxels & (t.view.voxels - 1)) != 0)
+    throw usage_error("--voxels must be a power of two (the walk's position registers), got " + a.str("voxels", ""));
+  t.scene = load_render_scene(t.view);
+  if (!t.three_d())
+    for (const char* f : {"voxels", "width", "height"})
+      if (a.has(f)) throw usage_error(std::string("--") + f + " applies to 3D scenes; --scene " + t.view.scene + " is 2D");
+  if (a.has("voxels") && !builtin_3d_scene(t.view.scene))
+    throw usage_error("--voxels sets the size of the built-in 3D scenes, not of the scene file " + t.view.scene);
+  t.view.width = static_cast<unsigned>(a.integer("width", 32, 1, 1024));
+  t.view.height = static_cast<unsigned>(a.integer("height", 32, 1, 1024));
+  const bool d3 = t.three_d();
+  const auto nx = static_cast<std::int64_t>(d3 ? t.view.width : t.scene.size()) - 1;
+  const auto ny = static_cast<std::int64_t>(d3 ? t.view.height : t.scene.size()) - 1;
+  t.x = static_cast<unsigned>(a.integer("x", d3 ? t.view.width / 2 : 3, 0, nx));
+  t.y = static_cast<unsigned>(a.integer("y", d3 ? t.view.height / 2 : 4, 0, ny));
+  t.march = march_flag(a);
+  return t;
+}
+
+// The one walk an analysis command (crossover, resources) studies: light-map cell (x, y) of a 2D
+// scene, or, in 3D, the first hit of pixel (x, y) of a width x height image through the scene's
+// camera, walked as qrm render --method quantum walks it (its march, directions and sub-voxel
+// bits). A pixel that sees no voxel is a usage error naming it.
+struct studied_walk {
+  qrm::walk_model model;
+  qrm::walk_start start;
+  std::string where;  // "cell (3, 4)" or "pixel (16, 16) of a 32x32 image"
+};
+inline studied_walk study_walk(const qrm::scene& sc, std::optional<qrm::march_mode> march, unsigned x, unsigned y,
+                               unsigned width, unsigned height) {
+  const bool three_d = sc.dims() == 3;
+  render_settings rs;
+  rs.scene = sc.name();
+  rs.width = width;
+  rs.height = height;
+  rs.methods = "quantum";
+  rs.march = march_for(march, sc);
+  studied_walk w{qrm::walk_model(sc,
+                                 three_d ? qrm::sphere_directions(rs.directions_for(sc), rs.fractional_bits_for(sc))
+                                         : qrm::king_2d(),
+                                 *rs.march),
+                 {},
+                 (three_d ? "pixel (" : "cell (") + std::to_string(x) + ", " + std::to_string(y) + ")"};
+  if (!three_d) {
+    w.start = w.model.light_map_start({x, y, 0});
+    return w;
+  }
+  const auto px = qrm::render::pixel_starts(w.model, scene_camera(rs, sc));
+  const qrm::render::pixel_start& hit = px[static_cast<std::size_t>(y) * width + x];
+  w.where += " of a " + std::to_string(width) + "x" + std::to_string(height) + " image";
+  if (!hit.hit) throw usage_error(w.where + " of " + sc.name() + " sees no voxel");
+  w.start = qrm::detail::render_start_of(sc, {hit.voxel, hit.start.direction});
+  return w;
 }
 
 inline image3d_summary render_images_3d(const render_settings& s, const qrm::scene& sc) {

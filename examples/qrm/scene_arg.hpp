@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include <qrm/walk/paper_scenes.hpp>
@@ -23,6 +24,30 @@ inline qrm::scene scene_from_arg(const std::string& value, const std::string& bu
   if (std::filesystem::is_directory(value))
     throw usage_error("--scene: '" + value + "' is a directory, not a scene file");
   return qrm::load_scene(value);
+}
+
+// --march voxel|surface, if given.
+inline std::optional<qrm::march_mode> march_flag(const args& a) {
+  if (!a.has("march")) return std::nullopt;
+  const std::string m = a.str("march", "");
+  if (m != "voxel" && m != "surface") throw usage_error("--march must be voxel or surface, got '" + m + "'");
+  return m == "voxel" ? qrm::march_mode::voxel : qrm::march_mode::surface;
+}
+
+// The walk every command runs on `sc`: --march, else the scene's own `march` line, else the
+// surface march (one bounce per step). The paper's scenes declare the voxel march, so their
+// numbers stay the paper's; a user's room is walked the same way by render, lightmap, circuit,
+// resources and crossover.
+inline qrm::march_mode march_for(std::optional<qrm::march_mode> flag, const qrm::scene& sc) {
+  return flag.value_or(sc.march().value_or(qrm::march_mode::surface));
+}
+
+// --march's row in a command's --help.
+inline flag march_flag_row(const char* group) {
+  return {"march", "voxel|surface", "the scene's, else surface",
+          "how the walk moves: voxel = one voxel per step (the paper's Section 4; paper_4x4 and paper_8x8 ask for it), "
+          "surface = one bounce per step (to the next non-air voxel)",
+          group};
 }
 
 inline qrm::pruning pruning_from_arg(const std::string& v) {

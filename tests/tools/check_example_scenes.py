@@ -11,7 +11,11 @@ there are the built-in ones.
   file but the summary, whose timings differ; its other fields must match too). The files were
   written by hand (2D: the authors' tables) or by format_scene (the Cornell box), so this checks
   the parser, the writer and the built-in scenes against each other through the whole renderer.
+- Every 2D scene is walked the same way by `qrm lightmap --exact` and by `qrm render` (the same
+  default march: the file's `march` line, else the surface march): the light map's faithful
+  column equals the render's exact column to 1e-12 on every cell and channel.
 """
+import csv
 import json
 import os
 import shutil
@@ -49,6 +53,26 @@ def summary_without_times(path):
     return s
 
 
+def compare_lightmap(qrm, path, out, written, failures):
+    """qrm lightmap's exact faithful map of `path` against the exact column of qrm render's."""
+    r = subprocess.run([qrm, "lightmap", "--scene", path, "--exact", "--format", "csv"], capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit("qrm lightmap --scene %s failed (%d):\n%s" % (path, r.returncode, r.stderr))
+    rendered = [w for w in written if w.endswith("_lightmap.csv")]
+    if len(rendered) != 1:
+        failures.append("%s: qrm render wrote %d light map CSVs" % (path, len(rendered)))
+        return
+    exact = {(row["x"], row["y"], row["channel"]): float(row["exact"])
+             for row in csv.DictReader(open(os.path.join(out, rendered[0])))}
+    rows = list(csv.DictReader(r.stdout.splitlines()))
+    worst = max(abs(float(row["faithful"]) - exact[(row["x"], row["y"], row["channel"])]) for row in rows)
+    if len(rows) != len(exact) or not worst <= 1e-12:
+        failures.append("%s: qrm lightmap and qrm render differ (%d vs %d cells, largest gap %.3g)"
+                        % (path, len(rows), len(exact), worst))
+    else:
+        print("%s: qrm lightmap = qrm render's exact map (%d cell-channels, largest gap %.1e)" % (path, len(rows), worst))
+
+
 def main():
     qrm, scenes, work = sys.argv[1:4]
     work = os.path.join(work, "example_scenes")
@@ -65,6 +89,8 @@ def main():
         if not any(w.endswith("_summary.json") for w in written):
             failures.append("%s: no summary written (%s)" % (f, written))
         print("%s: rendered, %d files" % (f, len(written)))
+        if scene_dims(path) == 2:
+            compare_lightmap(qrm, path, out, written, failures)
         if f not in BUILTIN:
             continue
         ref_out = out + "_builtin"

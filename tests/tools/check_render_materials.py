@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
-"""Mirrors and glossy surfaces through the qrm tool.
+"""Mirrors and glossy surfaces through the qrm tool, at the CLI's default size.
 
     check_render_materials.py QRM WORKDIR [VOXELS]
 
-The scene is cornell_mirror: the Cornell box with the tall block replaced by a mirror sphere
-(radius 110 mm on the floor at x = 385, z = 330 mm, reflectance 0.9), at VOXELS^3 (default 32: at
-the CLI's default 8^3 the sphere is about one voxel across) and the default image size, 128x128.
+The scenes are cornell_mirror (the Cornell box with the tall block replaced by a mirror sphere,
+radius 110 mm on the floor at x = 385, z = 330 mm, reflectance 0.9) and cornell_glossy (the same
+sphere glossy, lobe 2), at the CLI's default size (32^3 for these two; VOXELS^3 if given) and
+image size, 128x128.
 
 1. The mirror reflects the red wall. Which pixels should show it is worked out here from the
    analytic scene alone (the published camera, the true sphere, the red wall plane x = 550 mm),
@@ -15,8 +16,8 @@ the CLI's default 8^3 the sphere is about one voxel across) and the default imag
    apart at worst; voxel normals) still lands on the wall. The mean colour of those pixels in the
    exact image must match the mean colour of the red wall seen directly, over the same patch of
    wall, within 10% in R/G and in normalised red r / (r + g + b).
-2. Monte Carlo converges to the exact image: the least-squares slope of log RMSE over log N for
-   N = 8, 32, 128, 512 paths per pixel lies in [-0.6, -0.4] (N^-1/2).
+2. Monte Carlo converges to the exact image on both scenes: the least-squares slope of log RMSE
+   over log N for N = 8, 32, 128, 512 paths per pixel lies in [-0.6, -0.4] (N^-1/2).
 """
 import math
 import os
@@ -24,10 +25,6 @@ import sys
 import time
 
 from render_check import check_mc_slope, read_pfm_pixels as read_pfm, run
-
-
-
-
 
 
 # The analytic scene in millimetres (render/voxelize.hpp: cornell_box, cornell_mirror,
@@ -109,10 +106,11 @@ def mean_colour(img, pixels):
     return [x / len(pixels) for x in s]
 
 
-def check_reflection(qrm, work, voxels, failures):
+def check_reflection(qrm, work, size_args, failures):
     out = os.path.join(work, "mirror")
     t0 = time.time()
-    s = run(qrm, ["--scene", "cornell_mirror", "--voxels", str(voxels), "--method", "exact", "--seed", "1"], out)
+    s = run(qrm, ["--scene", "cornell_mirror", *size_args, "--method", "exact", "--seed", "1"], out)
+    voxels = s["settings"]["size"]
     name = "cornell_mirror_%d_exact.pfm" % voxels
     w, h, img = read_pfm(os.path.join(out, name))
     mirror, wall = regions(w, h)
@@ -140,18 +138,18 @@ def check_reflection(qrm, work, voxels, failures):
     print("elapsed %.1f s" % (time.time() - t0))
 
 
-
-
 def main():
     if len(sys.argv) not in (3, 4):
         sys.exit(__doc__)
     qrm, work = sys.argv[1], sys.argv[2]
-    voxels = int(sys.argv[3]) if len(sys.argv) == 4 else 32
+    size_args = ["--voxels", sys.argv[3]] if len(sys.argv) == 4 else []
+    size = sys.argv[3] + "^3" if size_args else "default size"
     os.makedirs(work, exist_ok=True)
     failures = []
-    check_reflection(qrm, work, voxels, failures)
-    check_mc_slope(qrm, work, "cornell_mirror %d^3" % voxels, ["--scene", "cornell_mirror", "--voxels", str(voxels)],
-                   failures)
+    check_reflection(qrm, work, size_args, failures)
+    for scene in ("cornell_mirror", "cornell_glossy"):
+        check_mc_slope(qrm, os.path.join(work, scene), "%s, %s" % (scene, size), ["--scene", scene, *size_args],
+                       failures)
     if failures:
         print("FAILED:\n  " + "\n  ".join(failures))
         sys.exit(1)
