@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -138,6 +139,10 @@ int main(int argc, char** argv) {
   } catch (const usage_error& e) {
     std::fprintf(stderr, "qrm %s: %s\n", name.c_str(), e.what());
     return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "qrm %s: out of memory (try fewer voxels, steps, pixels or a stronger --prune)\n",
+                 name.c_str());
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "qrm %s: error: %s\n", name.c_str(), e.what());
     return 1;
