@@ -125,16 +125,18 @@ void BM_gate1_complex(benchmark::State& st) {
 // so the touched amplitudes are one contiguous block; placement 1: controls on qubits 0..k-1,
 // target n-1, so every touched amplitude sits in its own cache line 2^k amplitudes apart (the
 // worst case: bounded by memory latency, not bandwidth).
+template <class S>
 void BM_mcx(benchmark::State& st) {
   const int n = static_cast<int>(st.range(0));
   const int k = static_cast<int>(st.range(1));
   const bool strided = st.range(2) == 1;
-  auto& s = state<cd>(n, static_cast<unsigned>(st.range(3)));
+  auto& s = state<S>(n, static_cast<unsigned>(st.range(3)));
   std::vector<qrm::control> cs;
   for (int i = 0; i < k; ++i) cs.push_back({static_cast<qrm::qubit_index>(strided ? i : n - 1 - i), true});
   const auto target = static_cast<qrm::qubit_index>(strided ? n - 1 : 0);
   for (auto _ : st) s.apply_gate1(qrm::gate::x(), target, cs);
-  report(st, 2.0 * std::ldexp(sizeof(cd), n - k));
+  report(st, 2.0 * std::ldexp(sizeof(S), n - k));
+  touch_bytes_label<S>(st, n);
 }
 
 // Ry on qubit 0 controlled by the top qubit.
@@ -182,7 +184,11 @@ BENCHMARK(BM_gate1<std::complex<float>>)->ArgNames({"n", "target", "threads"})->
 BENCHMARK(BM_gate1_generic<std::complex<float>>)->ArgNames({"n", "target", "threads"})->ArgsProduct({{26}, {0, 1, 2}, {1, 2}})->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_gate1<double>)->ArgNames({"n", "target", "threads"})->ArgsProduct({{26}, {0, 1, 2}, {1, 2}})->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_gate1_complex)->ArgNames({"n", "threads"})->Apply(sizes_and_threads)->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_mcx)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{20, 22, 24, 26}, {1, 4, 8, 12}, {0, 1}, {1, 2}})->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_mcx<cd>)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{20, 22, 24, 26}, {1, 4, 8, 12}, {0, 1}, {1, 2}})->UseRealTime()->Unit(benchmark::kMicrosecond);
+// The same permutation on the other scalars: an X moves amplitudes without arithmetic, so its cost
+// should follow the bytes moved, whatever the element type.
+BENCHMARK(BM_mcx<std::complex<float>>)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{26}, {8, 12}, {0, 1}, {1}})->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_mcx<double>)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{26}, {8, 12}, {0, 1}, {1}})->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_controlled_ry)->ArgNames({"n", "threads"})->Apply(sizes_and_threads)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_mux_ry)->ArgNames({"n", "threads"})->Apply(sizes_and_threads)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_increment)->ArgNames({"n", "threads"})->Apply(sizes_and_threads)->UseRealTime()->Unit(benchmark::kMillisecond);

@@ -23,6 +23,7 @@
 #include "../../circuit/ops.hpp"
 #include "bits.hpp"
 #include "dense_batched.hpp"
+#include "dense_swap.hpp"
 #include "scalar.hpp"
 #include "../../support/detail/thread_pool.hpp"
 
@@ -200,6 +201,19 @@ void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cm
   const bool is_x = g.m[0][0] == complex{} && g.m[1][1] == complex{} && g.m[0][1] == complex{1.0} &&
                     g.m[1][0] == complex{1.0};
   if (is_x) {
+    const std::uint64_t block_bytes = st * sizeof(S);
+    const subspace sc(n, cmask, cvalue);
+    const std::uint64_t run_c = sc.npos ? (std::uint64_t{1} << sc.pos[0]) : sc.count();
+    const simd_level level = resolve_simd(ex.simd);
+    // Target below every control, blocks narrower than for_each_pair's prefetched case, and runs
+    // of whole vectors (chunks of chunk_members amplitudes never split a block pair).
+    if (run_c >= 2 * st && 2 * st <= chunk_members && block_bytes < 256 &&
+        std::min(run_c, chunk_members) * sizeof(S) >= swap_vector_bytes(level)) {
+      for_each_run(sc, ex, 1, [=](std::uint64_t i0, std::uint64_t len) {
+        swap_adjacent_blocks(a + i0, len * sizeof(S), block_bytes, level);
+      });
+      return;
+    }
     for_each_pair(a, n, t, cmask, cvalue, ex, 2, [=](std::uint64_t i) { std::swap(a[i], a[i + st]); });
     return;
   }
