@@ -3,8 +3,9 @@
 // hardware would run: cell (3, 4), 3 steps, reachable pruning, 21 qubits with ancillas, 5125
 // ops; the circuit `qrm circuit --scene paper_8x8 --x 3 --y 4 --qasm F --decomposed` writes) and the
 // random suite of qrm simulate --random (22 qubits, 300 gates of H, Ry, CX, CCX, C^4 X).
-// Args: circuit (0 walk, 1 random), fusion width (0: unfused), simd (qrm::simd_level: 0 the
-// best this CPU has, 2 AVX2, 3 AVX-512).
+// Args: circuit (0 walk, 1 random, 2 the walk on a 23-qubit state: two idle qubits on top, the
+// size at which two threads are measured), fusion width (0: unfused), simd (qrm::simd_level: 0
+// the best this CPU has, 2 AVX2, 3 AVX-512), threads.
 #include <benchmark/benchmark.h>
 
 #include <complex>
@@ -25,7 +26,12 @@ const qrm::program& circuit(int which) {
     return qrm::decompose(w.circuit).circuit;
   }();
   static const qrm::program suite = qrm_cli::random_gate_suite(22, 300, 1);
-  return which == 0 ? walk : suite;
+  static const qrm::program wide_walk = [] {
+    qrm::program p(walk.width() + 2);
+    for (const qrm::op::any& o : walk.ops()) p.push(o);
+    return p;
+  }();
+  return which == 0 ? walk : which == 1 ? suite : wide_walk;
 }
 
 template <class S>
@@ -34,7 +40,7 @@ void BM_fusion(benchmark::State& st) {
   const auto width = static_cast<unsigned>(st.range(1));
   const qrm::program run = width ? qrm::fuse(p, {width}) : p;
   qrm::dense_options o;
-  o.threads = 1;
+  o.threads = static_cast<unsigned>(st.range(3));
   o.simd = static_cast<qrm::simd_level>(st.range(2));
   qrm::state_vector<S> s(p.width(), o);
   for (auto _ : st) {
@@ -44,21 +50,26 @@ void BM_fusion(benchmark::State& st) {
   }
   st.counters["qubits"] = static_cast<double>(p.width());
   st.counters["ops"] = static_cast<double>(run.size());
+  st.counters["threads"] = static_cast<double>(o.threads);
   st.SetLabel(qrm::simd_level_name(qrm::detail::resolve_simd(o.simd)));
 }
 
 }  // namespace
 
 BENCHMARK(BM_fusion<std::complex<double>>)
-    ->ArgNames({"circuit", "fuse", "simd"})
-    ->ArgsProduct({{0, 1}, {0, 2, 3, 4, 5}, {0}})
-    ->ArgsProduct({{0, 1}, {3, 4}, {2}})
+    ->ArgNames({"circuit", "fuse", "simd", "threads"})
+    ->ArgsProduct({{0, 1}, {0, 2, 3, 4, 5}, {0}, {1}})
+    ->ArgsProduct({{0, 1}, {3, 4}, {2}, {1}})
+    ->ArgsProduct({{2}, {3}, {0}, {1, 2}})
+    ->UseRealTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
     ->Repetitions(3);
 BENCHMARK(BM_fusion<std::complex<float>>)
-    ->ArgNames({"circuit", "fuse", "simd"})
-    ->ArgsProduct({{0, 1}, {0, 3, 4}, {0}})
+    ->ArgNames({"circuit", "fuse", "simd", "threads"})
+    ->ArgsProduct({{0, 1}, {0, 3, 4}, {0}, {1}})
+    ->ArgsProduct({{2}, {3}, {0}, {1, 2}})
+    ->UseRealTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
     ->Repetitions(3);

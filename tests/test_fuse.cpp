@@ -281,9 +281,10 @@ TEST_CASE("H then CNOT fuse into the Bell matrix, multiplied by hand") {
   CHECK(rep.blocks_by_width[2] == 1);
 }
 
-TEST_CASE("blocks close when a gate would widen them past the limit") {
-  // H0, H1, CX(0 -> 1), H2, CX(1 -> 2): with width 2 the first three fuse into one block on
-  // {0, 1}; CX(1 -> 2) would make it {0, 1, 2}, so {0, 1} and {2} close and CX(1 -> 2) is alone.
+TEST_CASE("a gate that would widen its blocks past the limit closes the smaller ones and joins the rest") {
+  // H0, H1, CX(0 -> 1), H2, CX(1 -> 2) at width 2: the first three fuse into one block on {0, 1};
+  // H2 finds no block with room and opens {2}; CX(1 -> 2) cannot have both blocks ({0, 1, 2}),
+  // so it keeps the one that still fits with it ({2}, giving {1, 2}) and {0, 1} closes first.
   qrm::program p(3);
   p.apply_gate1(qrm::gate::h(), 0, {});
   p.apply_gate1(qrm::gate::h(), 1, {});
@@ -293,14 +294,36 @@ TEST_CASE("blocks close when a gate would widen them past the limit") {
   p.apply_gate1(qrm::gate::x(), 2, c1);
   qrm::fusion_report rep;
   const qrm::program f2 = qrm::fuse(p, {2}, &rep);
-  REQUIRE(f2.size() == 3);
+  REQUIRE(f2.size() == 2);
   CHECK(f2.ops()[0].index() == 1);
   CHECK(qrm::op_qubits(f2.ops()[0]) == std::vector<qubit_index>{0, 1});
-  CHECK(qrm::op_qubits(f2.ops()[1]) == std::vector<qubit_index>{2});
-  CHECK(qrm::op_qubits(f2.ops()[2]) == std::vector<qubit_index>{2, 1});  // target, then control
-  CHECK(rep.fused_blocks == 1);
+  CHECK(f2.ops()[1].index() == 1);
+  CHECK(qrm::op_qubits(f2.ops()[1]) == std::vector<qubit_index>{1, 2});
+  CHECK(rep.fused_blocks == 2);
   CHECK(qrm::fuse(p, {3}).size() == 1);
   CHECK(qrm::fuse(p, {1}).size() == 5);  // nothing shares a single qubit but H alone: no block of two
+}
+
+TEST_CASE("gates on disjoint qubits share a block as a tensor product when it has room") {
+  qrm::program p(2);
+  p.apply_gate1(qrm::gate::h(), 0, {});
+  p.apply_gate1(qrm::gate::x(), 1, {});
+  qrm::fusion_report rep;
+  const qrm::program f = qrm::fuse(p, {2}, &rep);
+  REQUIRE(f.size() == 1);
+  REQUIRE(f.ops()[0].index() == 1);
+  const auto& u = *std::get_if<qrm::op::unitary_op>(&f.ops()[0]);
+  CHECK(u.targets == std::vector<qubit_index>{0, 1});
+  // X (qubit 1) (x) H (qubit 0), bit 0 of the index = qubit 0, multiplied by hand.
+  const double r = 1 / std::sqrt(2.0);
+  const double expected[4][4] = {{0, 0, r, r}, {0, 0, r, -r}, {r, r, 0, 0}, {r, -r, 0, 0}};
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = 0; j < 4; ++j) CHECK(std::abs(u.matrix(i, j) - expected[i][j]) < 1e-15);
+  qrm::fusion_options apart;
+  apart.max_qubits = 2;
+  apart.merge_disjoint = false;
+  CHECK(qrm::fuse(p, apart).size() == 2);
+  CHECK(qrm::fuse(p, {1}).size() == 2);  // no room at width 1
 }
 
 TEST_CASE("fusion refuses a width outside 1..6") {

@@ -7,10 +7,12 @@
 // rounding (tests/test_fuse.cpp holds fused to unfused within 1e-12 for complex<double>).
 //
 // The rule (greedy, in program order): every qubit belongs to at most one open block. An op
-// joins the blocks that share a qubit with it when their union with the op has at most
-// `max_qubits` qubits; otherwise those blocks are closed (written to the output) and the op
-// opens a new block. Open blocks act on disjoint qubits, so they commute with each other and
-// closing one early never reorders two ops that share a qubit. Controls count as qubits of the
+// joins the blocks that share a qubit with it, largest first, as long as their union with the
+// op has at most `max_qubits` qubits; the touched blocks that do not fit are closed (written to
+// the output) first. An op that touches no open block joins the largest open block that has
+// room for it (a tensor product: one pass over the state instead of two), else opens its own.
+// Open blocks act on disjoint qubits, so they commute with each other and closing one early
+// never reorders two ops that share a qubit. Controls count as qubits of the
 // block (a CNOT is a 2-qubit block). Ops that cannot join (adds and multiplexed ops, whose
 // kernels use their structure, gates wider than `max_qubits`, and gates with two or more
 // controls unless one block already holds all their qubits: alone they visit a quarter of the
@@ -34,6 +36,7 @@ namespace qrm {
 
 struct fusion_options {
   unsigned max_qubits = 3;  // widest fused block, 1..6; 3 measured fastest (bench/RESULTS.md)
+  bool merge_disjoint = true;  // an op touching no open block joins one with room (tensor product)
 };
 
 // What fuse() did.
@@ -175,6 +178,19 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
     blk = {};
   };
 
+  // The open block with the most qubits that still has room for `extra` more (blocks.size() if
+  // none): an op that shares no qubit with any block rides along with it.
+  std::vector<std::size_t> open;  // indices of open blocks, plus closed ones not yet dropped
+  auto roomiest_fit = [&](std::size_t extra) {
+    std::erase_if(open, [&](std::size_t b) { return blocks[b].ops.empty(); });
+    std::size_t best = blocks.size();
+    for (std::size_t b : open) {
+      const std::size_t w = blocks[b].qubits.size();
+      if (w + extra <= k && (best == blocks.size() || w > blocks[best].qubits.size())) best = b;
+    }
+    return best;
+  };
+
   for (std::size_t i = 0; i < p.size(); ++i) {
     const op::any& o = p.ops()[i];
     const std::vector<qubit_index> q = detail::fusable_qubits(o);
@@ -202,11 +218,28 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
       ++rep.passed_through;
       continue;
     }
+    // The op joins every touched block it keeps open: keep the largest ones while the union
+    // still fits and close the others (their ops precede this one and act on qubits disjoint
+    // from the kept blocks, so writing them first reorders nothing that does not commute).
+    std::sort(touched.begin(), touched.end(),
+              [&](std::size_t x, std::size_t y) { return blocks[x].qubits.size() > blocks[y].qubits.size(); });
+    std::size_t union_width = q.size();
+    std::vector<std::size_t> kept;
+    for (std::size_t b : touched) {
+      std::size_t shared = 0;
+      for (qubit_index x : q) shared += owner[x] == b + 1;
+      if (union_width + blocks[b].qubits.size() - shared <= k) {
+        union_width += blocks[b].qubits.size() - shared;
+        kept.push_back(b);
+      } else {
+        close(b);
+      }
+    }
     std::size_t into;
-    if (width <= k && !touched.empty()) {  // merge the touched blocks into the first one
-      into = touched[0];
-      for (std::size_t t = 1; t < touched.size(); ++t) {
-        detail::fusion_block& other = blocks[touched[t]];
+    if (!kept.empty()) {  // merge the kept blocks into the first one
+      into = kept[0];
+      for (std::size_t t = 1; t < kept.size(); ++t) {
+        detail::fusion_block& other = blocks[kept[t]];
         for (qubit_index x : other.qubits) owner[x] = into + 1;
         blocks[into].qubits.insert(blocks[into].qubits.end(), other.qubits.begin(), other.qubits.end());
         blocks[into].ops.insert(blocks[into].ops.end(), other.ops.begin(), other.ops.end());
@@ -215,10 +248,13 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
       // Ops of merged blocks act on disjoint qubits, so any interleaving of them is the same
       // product; program order keeps the output readable.
       std::sort(blocks[into].ops.begin(), blocks[into].ops.end());
+    } else if (const std::size_t host = options.merge_disjoint ? roomiest_fit(q.size()) : blocks.size();
+               host < blocks.size()) {
+      into = host;  // a tensor product: one pass where the op alone would make its own
     } else {
-      for (std::size_t b : touched) close(b);
       into = blocks.size();
       blocks.emplace_back();
+      open.push_back(into);
     }
     detail::fusion_block& blk = blocks[into];
     blk.ops.push_back(i);
