@@ -8,7 +8,10 @@
 #include <complex>
 #include <vector>
 
+#include <qrm/circuit/decompose.hpp>
 #include <qrm/circuit/fuse.hpp>
+#include <qrm/walk/circuit.hpp>
+#include <qrm/walk/paper_scenes.hpp>
 
 #include "support/backends.hpp"
 #include "support/random_programs.hpp"
@@ -92,6 +95,36 @@ TEST_CASE_TEMPLATE("fused programs give the unfused state on every backend and b
       CHECK(f.size() <= p.size());
     }
   MESSAGE(std::string(T::name()) << ": largest |fused - unfused| " << worst);
+}
+
+// The circuit fusion is for: the walk lowered to 1-qubit gates and CNOTs (paper_4x4, cell (1, 2),
+// 2 steps, reachable pruning: 12 qubits with ancillas, 926 gates), run gate by gate and fused at
+// every width from |0...0>. Bars: 1e-12 in complex<double>, 1e-5 in complex<float> (each of the
+// ~900 unfused gates rounds the state to float once: ~900 x 6e-8 at worst).
+TEST_CASE_TEMPLATE("the decomposed walk fused gives the unfused state", S, std::complex<double>, std::complex<float>) {
+  const qrm::walk_model m(qrm::paper_4x4(), qrm::king_2d());
+  qrm::walk_options o;
+  o.steps = 2;
+  o.prune = qrm::pruning::reachable;
+  const qrm::program p = qrm::decompose(qrm::make_walk_program(m, m.light_map_start({1, 2, 0}), o).circuit).circuit;
+  REQUIRE(p.size() > 500);
+  const double bar = std::is_same_v<S, std::complex<double>> ? 1e-12 : 1e-5;
+  qrm::state_vector<S> unfused(p.width());
+  qrm::run(unfused, p);
+  for (unsigned k = 2; k <= 5; ++k) {
+    qrm::fusion_report rep;
+    const qrm::program f = qrm::fuse(p, {k}, &rep);
+    qrm::state_vector<S> fused(p.width());
+    qrm::run(fused, f);
+    double d = 0;
+    for (std::size_t i = 0; i < unfused.amplitudes().size(); ++i)
+      d = std::max(d, static_cast<double>(std::abs(fused.amplitudes()[i] - unfused.amplitudes()[i])));
+    CAPTURE(k);
+    CHECK(rep.ops_out < p.size() / 2);
+    CHECK(d <= bar);
+    MESSAGE(std::string(qrm::detail::scalar_name<S>()) << " width " << k << ": " << p.size() << " gates -> " << rep.ops_out
+                                                       << " ops, largest |fused - unfused| " << d);
+  }
 }
 
 TEST_CASE_TEMPLATE("every vector level of the matrix kernels gives the reference state", S, std::complex<double>,
