@@ -1,16 +1,22 @@
 // examples/qrm/cmd_simulate.cpp: `qrm simulate`, a general circuit (an OpenQASM 3 file or a
-// random gate suite) on the dense backend, with or without gate fusion, timed.
+// random gate suite) on the dense or the compact backend, with or without gate fusion, timed, and
+// optionally the final state written as raw amplitudes (to check against another simulator).
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cinttypes>
 #include <complex>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
+#include <qrm/backends/compact.hpp>
 #include <qrm/backends/dense.hpp>
 #include <qrm/circuit/fuse.hpp>
 #include <qrm/circuit/qasm.hpp>
+#include <qrm/io/atomic_file.hpp>
 #include <qrm/support/random.hpp>
+#include <span>
 #include <sstream>
 #include <thread>
 #include <string>
@@ -45,8 +51,8 @@ struct simulation {
   double difference = 0;     // largest |run - plain| over the amplitudes
 };
 
-template <class S>
-timed_run run_timed(qrm::state_vector<S>& s, const qrm::program& p, unsigned repeat) {
+template <class State>
+timed_run run_timed(State& s, const qrm::program& p, unsigned repeat) {
   timed_run r;
   for (unsigned i = 0; i < repeat; ++i) {
     s.set_basis_state(0);
@@ -58,32 +64,76 @@ timed_run run_timed(qrm::state_vector<S>& s, const qrm::program& p, unsigned rep
   return r;
 }
 
-// `program` timed; with `plain`, that one too, and the two final states compared in place (a
-// second state only then: no copy of the amplitudes).
+// What the run needs besides the circuit.
+struct run_settings {
+  bool compact = false;
+  unsigned threads = 1;
+  unsigned repeat = 3;
+  qrm::simd_level simd = qrm::simd_level::automatic;
+  std::string state_out;  // empty: do not write the state
+};
+
+// The 2^n amplitudes as raw little-endian numbers of the state's own type (complex: real part,
+// then imaginary part), written whole or not at all.
 template <class S>
-simulation simulate(const qrm::program& program, const qrm::program* plain, unsigned threads, unsigned repeat,
-                    qrm::simd_level simd) {
-  qrm::dense_options o;
-  o.threads = threads;
-  o.simd = simd;
+void write_state(const std::string& path, std::span<const S> amps) {
+  qrm::io::write_file_atomically(path, [&](qrm::io::file_sink& out) {
+    std::vector<unsigned char> buf(sizeof(S) * 4096);
+    for (std::size_t i = 0; i < amps.size(); i += 4096) {
+      const std::size_t count = std::min<std::size_t>(4096, amps.size() - i);
+      std::memcpy(buf.data(), amps.data() + i, count * sizeof(S));
+      if constexpr (std::endian::native == std::endian::big) {
+        constexpr std::size_t word = qrm::detail::scalar_traits<S>::is_complex ? sizeof(S) / 2 : sizeof(S);
+        for (std::size_t b = 0; b < count * sizeof(S); b += word) std::reverse(buf.begin() + b, buf.begin() + b + word);
+      }
+      out.write(buf.data(), count * sizeof(S));
+    }
+  });
+}
+
+template <class S, class State>
+std::vector<S> dense_copy(const State& s) {
+  if constexpr (requires { s.to_dense(); })
+    return s.to_dense();
+  else
+    return std::vector<S>(s.amplitudes().begin(), s.amplitudes().end());
+}
+
+// `program` timed; with `plain`, that one too, and the two final states compared.
+template <class S, class State, class Make>
+simulation simulate_on(const qrm::program& program, const qrm::program* plain, const run_settings& rs, Make make) {
   simulation r;
-  qrm::state_vector<S> s(program.width(), o);
-  r.run = run_timed(s, program, repeat);
+  State s = make(program.width());
+  r.run = run_timed(s, program, rs.repeat);
   if (plain) {
-    qrm::state_vector<S> t(plain->width(), o);
-    r.plain = run_timed(t, *plain, repeat);
-    const auto a = s.amplitudes(), b = t.amplitudes();
+    State t = make(plain->width());
+    r.plain = run_timed(t, *plain, rs.repeat);
+    const std::vector<S> a = dense_copy<S>(s), b = dense_copy<S>(t);
     for (std::size_t i = 0; i < a.size(); ++i) r.difference = std::max(r.difference, static_cast<double>(std::abs(a[i] - b[i])));
+  }
+  if (!rs.state_out.empty()) {
+    const std::vector<S> a = dense_copy<S>(s);
+    write_state<S>(rs.state_out, a);
   }
   return r;
 }
 
+template <class S>
+simulation simulate(const qrm::program& program, const qrm::program* plain, const run_settings& rs) {
+  if (rs.compact)
+    return simulate_on<S, qrm::compact_state<S>>(program, plain, rs, [](std::size_t n) { return qrm::compact_state<S>(n); });
+  qrm::dense_options o;
+  o.threads = rs.threads;
+  o.simd = rs.simd;
+  return simulate_on<S, qrm::state_vector<S>>(program, plain, rs, [&](std::size_t n) { return qrm::state_vector<S>(n, o); });
+}
+
 simulation simulate_scalar(const std::string& scalar, const qrm::program& program, const qrm::program* plain,
-                           unsigned threads, unsigned repeat, qrm::simd_level simd) {
-  if (scalar == "complex-double") return simulate<std::complex<double>>(program, plain, threads, repeat, simd);
-  if (scalar == "complex-float") return simulate<std::complex<float>>(program, plain, threads, repeat, simd);
-  if (scalar == "double") return simulate<double>(program, plain, threads, repeat, simd);
-  return simulate<float>(program, plain, threads, repeat, simd);
+                           const run_settings& rs) {
+  if (scalar == "complex-double") return simulate<std::complex<double>>(program, plain, rs);
+  if (scalar == "complex-float") return simulate<std::complex<float>>(program, plain, rs);
+  if (scalar == "double") return simulate<double>(program, plain, rs);
+  return simulate<float>(program, plain, rs);
 }
 
 double fastest(const timed_run& r) { return *std::min_element(r.seconds.begin(), r.seconds.end()); }
@@ -101,13 +151,19 @@ flag_table simulate_flags() {
       {"seed", "S", "1", "with --random: the seed", in},
       {"scalar", "complex-double|complex-float|double|float", "complex-double",
        "amplitude type (real types need a circuit of real gates)", run},
-      {"fuse", "K|off", "3", "multiply runs of gates on at most K qubits (1..6) into one matrix", run},
-      {"threads", "T", "0", "threads (0: every core)", run},
+      {"backend", "dense|compact", "dense",
+       "the dense state vector, or the compact backend (only the nonzero amplitudes; one thread)", run},
+      {"fuse", "K|on|off", "3", "multiply runs of gates on at most K qubits (1..6; on: 3) into one matrix", run},
+      {"threads", "T", "0", "threads of the dense backend (0: every core)", run},
       {"simd", "auto|generic|avx2|avx512", "auto",
        "vector instructions of the fused-matrix kernels (a level the CPU lacks runs the best below it)", run},
       {"repeat", "R", "3", "runs of the circuit; the fastest is reported", run},
       {"compare", "", "", "also run without fusion: both times and the largest amplitude difference", run},
       {"format", "json|text", "json", "output on stdout", out},
+      {"state-out", "FILE", "",
+       "write the final state: 2^n amplitudes as raw little-endian numbers of the --scalar type (complex: real, "
+       "imaginary)",
+       out},
   };
 }
 
@@ -119,12 +175,19 @@ int cmd_simulate(args& a) {
   const std::string scalar = a.str("scalar", "complex-double");
   if (scalar != "complex-double" && scalar != "complex-float" && scalar != "double" && scalar != "float")
     throw usage_error("--scalar must be complex-double, complex-float, double or float, got '" + scalar + "'");
-  const std::string fuse_arg = a.str("fuse", "3");
+  const std::string backend = a.str("backend", "dense");
+  if (backend != "dense" && backend != "compact")
+    throw usage_error("--backend must be dense or compact, got '" + backend + "'");
+  const bool compact = backend == "compact";
+  if (compact && a.has("threads") && a.str("threads", "") != "1")
+    throw usage_error("--threads applies to --backend dense; the compact backend runs on one thread");
+  if (compact && a.has("simd")) throw usage_error("--simd applies to --backend dense");
+  const std::string fuse_arg = a.str("fuse", "3") == "on" ? "3" : a.str("fuse", "3");
   unsigned fuse_width = 0;
   if (fuse_arg != "off") {
     if (fuse_arg.empty() || fuse_arg.find_first_not_of("0123456789") != std::string::npos || fuse_arg.size() > 2 ||
         std::stoi(fuse_arg) < 1 || std::stoi(fuse_arg) > 6)
-      throw usage_error("--fuse must be a width 1..6 or off, got '" + fuse_arg + "'");
+      throw usage_error("--fuse must be a width 1..6, on or off, got '" + fuse_arg + "'");
     fuse_width = static_cast<unsigned>(std::stoi(fuse_arg));
   }
   const auto threads = static_cast<unsigned>(a.integer("threads", 0, 0, 1024));
@@ -158,11 +221,16 @@ int cmd_simulate(args& a) {
     throw usage_error("--scalar " + scalar + " stores real amplitudes, but " +
                       (a.has("qasm") ? "'" + source + "'" : std::string("the circuit")) +
                       " has complex gates; use complex-double or complex-float");
-  if (p.width() > 34)
+  const std::string state_out = a.str("state-out", "");
+  if (!compact && p.width() > 34)
     throw usage_error("the circuit has " + std::to_string(p.width()) +
-                      " qubits; qrm simulate runs the dense backend, which this tool limits to 34");
+                      " qubits; the dense backend is limited to 34 here (--backend compact stores only nonzero amplitudes)");
+  if (compact && p.width() > 64)
+    throw usage_error("the circuit has " + std::to_string(p.width()) + " qubits; the compact backend's labels hold 64");
+  if (!state_out.empty() && p.width() > 34)
+    throw usage_error("--state-out writes all 2^" + std::to_string(p.width()) + " amplitudes; it is limited to 34 qubits");
 
-  const unsigned used_threads = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
+  const unsigned used_threads = compact ? 1u : threads ? threads : std::max(1u, std::thread::hardware_concurrency());
   qrm::fusion_report rep;
   double fuse_seconds = 0;
   qrm::program fused;
@@ -171,8 +239,13 @@ int cmd_simulate(args& a) {
     fused = qrm::fuse(p, {fuse_width}, &rep);
     fuse_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
-  const simulation sim =
-      simulate_scalar(scalar, fuse_width ? fused : p, compare ? &p : nullptr, used_threads, repeat, simd);
+  run_settings rs;
+  rs.compact = compact;
+  rs.threads = used_threads;
+  rs.repeat = repeat;
+  rs.simd = simd;
+  rs.state_out = state_out;
+  const simulation sim = simulate_scalar(scalar, fuse_width ? fused : p, compare ? &p : nullptr, rs);
   const timed_run& main_run = sim.run;
   const timed_run& plain = sim.plain;
   const double difference = sim.difference;
@@ -182,28 +255,35 @@ int cmd_simulate(args& a) {
     if (fuse_width)
       std::printf("fused     %zu ops (%zu blocks of up to %u qubits) in %.3g s\n", rep.ops_out, rep.fused_blocks,
                   fuse_width, fuse_seconds);
-    std::printf("run       %s, %u thread(s), %s kernels: %.6g s (fastest of %u)\n", scalar.c_str(), used_threads,
-                simd_used, fastest(main_run), repeat);
+    if (compact)
+      std::printf("run       %s, compact backend: %.6g s (fastest of %u)\n", scalar.c_str(), fastest(main_run), repeat);
+    else
+      std::printf("run       %s, %u thread(s), %s kernels: %.6g s (fastest of %u)\n", scalar.c_str(), used_threads,
+                  simd_used, fastest(main_run), repeat);
     if (compare)
       std::printf("unfused   %.6g s: fused takes %.3gx the unfused time; largest |difference| %.3g\n", fastest(plain),
                   fastest(main_run) / fastest(plain), difference);
     std::printf("norm      %.17g\n", main_run.norm);
+    if (!state_out.empty()) std::printf("state     %s\n", state_out.c_str());
     return 0;
   }
   json_object j;
-  j.add("circuit", source).add("qubits", p.width()).add("ops", p.size()).add("scalar", scalar);
-  j.add("threads", used_threads).add("simd", simd_used).add("repeat", repeat);
+  j.add("circuit", source).add("qubits", p.width()).add("gates", p.size()).add("ops", p.size()).add("scalar", scalar);
+  j.add("backend", backend).add("threads", used_threads);
+  if (!compact) j.add("simd", simd_used);
+  j.add("repeat", repeat);
   if (fuse_width) {
     j.add("fuse", fuse_width).add("fused_ops", rep.ops_out).add("fused_blocks", rep.fused_blocks);
     j.add("blocks_by_width", json_array::of(rep.blocks_by_width)).add("fuse_seconds", fuse_seconds);
   } else {
-    j.add("fuse", "off");
+    j.add("fuse", "off").add("fused_ops", p.size());  // unfused: every gate is its own op
   }
   j.add("seconds", fastest(main_run)).add("seconds_each", json_array::of(main_run.seconds)).add("norm", main_run.norm);
   if (compare) {
     j.add("unfused_seconds", fastest(plain)).add("unfused_seconds_each", json_array::of(plain.seconds));
     j.add("fused_over_unfused", fastest(main_run) / fastest(plain)).add("max_abs_difference", difference);
   }
+  if (!state_out.empty()) j.add("state_out", state_out);
   std::printf("%s\n", j.str().c_str());
   return 0;
 }
