@@ -5,7 +5,9 @@
 // random suite of qrm simulate --random (22 qubits, 300 gates of H, Ry, CX, CCX, C^4 X).
 // Args: circuit (0 walk, 1 random, 2 the walk on a 23-qubit state: two idle qubits on top, the
 // size at which two threads are measured), fusion width (0: unfused), simd (qrm::simd_level: 0
-// the best this CPU has, 2 AVX2, 3 AVX-512), threads.
+// the best this CPU has, 2 AVX2, 3 AVX-512), threads. complex<float> runs twice: in double
+// arithmetic (the default) and in float arithmetic (qrm::float_math::single_precision, the
+// precision Google qsim computes in).
 #include <benchmark/benchmark.h>
 
 #include <complex>
@@ -34,7 +36,7 @@ const qrm::program& circuit(int which) {
   return which == 0 ? walk : which == 1 ? suite : wide_walk;
 }
 
-template <class S>
+template <class S, qrm::float_math Math = qrm::float_math::double_precision>
 void BM_fusion(benchmark::State& st) {
   const qrm::program& p = circuit(static_cast<int>(st.range(0)));
   const auto width = static_cast<unsigned>(st.range(1));
@@ -42,6 +44,7 @@ void BM_fusion(benchmark::State& st) {
   qrm::dense_options o;
   o.threads = static_cast<unsigned>(st.range(3));
   o.simd = static_cast<qrm::simd_level>(st.range(2));
+  o.math = Math;
   qrm::state_vector<S> s(p.width(), o);
   for (auto _ : st) {
     s.set_basis_state(0);
@@ -68,6 +71,15 @@ BENCHMARK(BM_fusion<std::complex<double>>)
 BENCHMARK(BM_fusion<std::complex<float>>)
     ->ArgNames({"circuit", "fuse", "simd", "threads"})
     ->ArgsProduct({{0, 1}, {0, 3, 4}, {0}, {1}})
+    ->ArgsProduct({{2}, {3}, {0}, {1, 2}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->Repetitions(3);
+BENCHMARK(BM_fusion<std::complex<float>, qrm::float_math::single_precision>)
+    ->ArgNames({"circuit", "fuse", "simd", "threads"})
+    ->ArgsProduct({{0, 1}, {3, 4, 5}, {0}, {1}})
+    ->ArgsProduct({{0, 1}, {3}, {2}, {1}})
     ->ArgsProduct({{2}, {3}, {0}, {1, 2}})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond)

@@ -264,6 +264,85 @@ TEST_CASE_TEMPLATE("norm drift over 10^5 random gates, fused", S, std::complex<f
   CHECK(drift <= bar);
 }
 
+TEST_CASE("complex<float> in float arithmetic (float_math::single_precision) matches the reference at every level") {
+  // Blocks on qubits 3 and up leave the lowest three free: there the float kernels take eight
+  // neighbouring bases per register (AVX-512) or four (AVX2); blocks on low qubits gather four
+  // bases per register. Bar as for double arithmetic's float states (2e-5): 80 gates fused
+  // into ~30 blocks, each output a float sum of at most 64 products of size <= 1, rounding
+  // ~64 x 6e-8 per block at worst and far less on average.
+  qrm::rng g(31);
+  const std::size_t n = 11;
+  for (qrm::simd_level level : {qrm::simd_level::generic, qrm::simd_level::avx2, qrm::simd_level::avx512})
+    for (unsigned k : {2u, 3u, 4u, 5u}) {
+      const qrm::program f = qrm::fuse(random_gate_program(n, 80, g, true), {k});
+      const auto start = random_unit_state(n, g);
+      std::vector<std::complex<float>> rounded(start.size());
+      for (std::size_t i = 0; i < start.size(); ++i) rounded[i] = std::complex<float>(start[i]);
+      std::vector<std::complex<double>> got[2];
+      for (int single = 0; single < 2; ++single) {
+        qrm::dense_options o;
+        o.threads = 1;
+        o.simd = level;
+        o.math = single ? qrm::float_math::single_precision : qrm::float_math::double_precision;
+        qrm::state_vector<std::complex<float>> b(n, o);
+        b.set_amplitudes(rounded);
+        qrm::run(b, f);
+        got[single].assign(b.amplitudes().begin(), b.amplitudes().end());
+      }
+      reference_state ref(n);
+      for (std::size_t i = 0; i < start.size(); ++i) ref.amp[i] = std::complex<double>(rounded[i]);
+      f.emit(ref);
+      CAPTURE(static_cast<int>(level));
+      CAPTURE(k);
+      CHECK(max_diff(got[1], ref.amp) <= 2e-5);
+      // The float kernels ran (they round differently from double arithmetic) wherever the CPU
+      // has them; the portable level always computes in double.
+      const bool vector_cpu = qrm::detail::resolve_simd(level) != qrm::simd_level::generic;
+      CHECK((got[0] != got[1]) == vector_cpu);
+    }
+}
+
+TEST_CASE("float arithmetic: norm drift over 10^5 random gates fused stays within 1e-4") {
+  // As the fused drift test above (8 qubits, blocks of 3), in float arithmetic: each op rounds
+  // inside its sums as well as at the end, ~4e4 ops of independent roundings; bar 1e-4, the
+  // unfused kernels' bound (kernel_cases.hpp).
+  qrm::rng g(17);
+  const std::size_t n = 8;
+  std::vector<qrm::gate1> pool;
+  std::vector<qrm::dense_matrix> two;
+  for (int i = 0; i < 16; ++i) pool.push_back(random_gate1_unitary(g, true));
+  for (int i = 0; i < 4; ++i) two.push_back(random_unitary(2, g, true));
+  qrm::program p(n);
+  const auto pick = [&] { return static_cast<qubit_index>(g.below(n)); };
+  for (int i = 0; i < 100000; ++i) {
+    const qubit_index t = pick();
+    qubit_index other = pick();
+    while (other == t) other = pick();
+    switch (g.below(3)) {
+      case 0: p.apply_gate1(pool[g.below(pool.size())], t, {}); break;
+      case 1: {
+        const std::vector<control> cs = {{other, g.below(2) == 1}};
+        p.apply_gate1(pool[g.below(pool.size())], t, cs);
+        break;
+      }
+      default: {
+        const std::vector<qubit_index> ts = {t, other};
+        p.apply_unitary(two[g.below(two.size())], ts, {});
+      }
+    }
+  }
+  qrm::fusion_report rep;
+  const qrm::program f = qrm::fuse(p, {3}, &rep);
+  qrm::dense_options o;
+  o.threads = 1;
+  o.math = qrm::float_math::single_precision;
+  qrm::state_vector<std::complex<float>> b(n, o);
+  qrm::run(b, f);
+  const double drift = std::abs(b.norm_squared() - 1.0);
+  MESSAGE("complex<float>, float arithmetic: norm drift after 1e5 gates fused into " << rep.ops_out << " ops: " << drift);
+  CHECK(drift <= 1e-4);
+}
+
 TEST_CASE("a fused block never exceeds its width, and whatever passes through is unchanged") {
   qrm::rng g(7);
   for (unsigned k = 1; k <= 6; ++k) {

@@ -11,6 +11,8 @@
 - The file holds exactly 2^n amplitudes of the --scalar type (no header, no padding).
 - A seeded random suite on 12 qubits: the compact and dense backends' states agree to 1e-12, and
   `--compare` (fused vs unfused on one backend) reports a difference <= 1e-12 with complex<double>.
+- --arithmetic float reaches the kernels: a complex-float state that differs from double
+  arithmetic's, by at most 1e-5.
 - The JSON has qubits, gates, fused_ops, seconds and norm (norm within 1e-9 of 1).
 - Bad input: exit 2 and a message naming the flag and the value; no state file is left behind.
 """
@@ -146,6 +148,19 @@ def main():
         if j["fused_ops"] >= j["gates"]:
             failures.append("random suite, %s: fusion left %d ops of %d gates" % (backend, j["fused_ops"], j["gates"]))
         states[backend] = read_state(out, "complex-double")
+    # --arithmetic float (complex<float>): computed differently from double arithmetic (the
+    # flag reaches the kernels), within float rounding of it (1e-5, as above).
+    floats = {}
+    for arithmetic in ("double", "float"):
+        out = os.path.join(work, "random_%s_arith.bin" % arithmetic)
+        r = run(qrm, ["--random", "14", "--gates", "200", "--seed", "3", "--scalar", "complex-float", "--arithmetic",
+                      arithmetic, "--threads", "1", "--repeat", "1", "--state-out", out])
+        if json.loads(r.stdout).get("arithmetic") != arithmetic:
+            failures.append("--arithmetic %s: the JSON says %s" % (arithmetic, r.stdout.strip()))
+        floats[arithmetic] = read_state(out, "complex-float")
+    worst = max(abs(a - b) for a, b in zip(floats["double"], floats["float"]))
+    if not 0 < worst <= 1e-5:
+        failures.append("--arithmetic float against double: largest difference %.3g (expected in (0, 1e-5])" % worst)
     worst = max(abs(a - b) for a, b in zip(states["dense"], states["compact"]))
     if len(states["dense"]) != 1 << 12 or worst > 1e-12:
         failures.append("random suite: dense and compact states differ by %.3g" % worst)
@@ -156,6 +171,8 @@ def main():
         (["--random", "10", "--backend", "gpu"], "--backend must be dense or compact, got 'gpu'"),
         (["--random", "10", "--backend", "compact", "--threads", "2"], "--threads applies to --backend dense"),
         (["--random", "10", "--backend", "compact", "--simd", "avx2"], "--simd applies to --backend dense"),
+        (["--random", "10", "--arithmetic", "half"], "--arithmetic must be double or float, got 'half'"),
+        (["--random", "10", "--arithmetic", "float"], "--arithmetic float applies to --scalar complex-float on --backend dense"),
         (["--random", "10", "--fuse", "9"], "--fuse must be a width 1..6, on or off, got '9'"),
         (["--random", "10", "--state-out", ""], "--state-out needs a value"),
         (["--random", "35", "--backend", "compact", "--state-out", os.path.join(work, "big.bin")],

@@ -43,6 +43,8 @@ struct dense_options {
   mux_strategy mux = mux_strategy::automatic;
   // Vector instructions of the k-qubit matrix kernels (fused gates): see qrm::simd_level.
   simd_level simd = simd_level::automatic;
+  // What those kernels compute complex<float> amplitudes in (double unless asked): see qrm::float_math.
+  float_math math = float_math::double_precision;
 };
 
 namespace detail {
@@ -96,6 +98,7 @@ class state_vector {
     ex_.min_parallel = opt.min_parallel;
     ex_.mux = opt.mux;
     ex_.simd = opt.simd;
+    ex_.math = opt.math;
     try {
       amps_.assign(static_cast<std::size_t>(std::uint64_t{1} << n_), Scalar{});
     } catch (const std::bad_alloc&) {

@@ -3,7 +3,8 @@
 // Every kernel visits only the subspace where its controls hold (cost ~ 2^(n - controls)),
 // computes in double whatever the storage type (a float-rounded unitary is not unitary, and
 // reusing it 10^5 times drifts the norm by ~1e-3; double arithmetic keeps float states within
-// the unbiased rounding of storage),
+// the unbiased rounding of storage; the matrix kernels offer float arithmetic on request, see
+// qrm::float_math),
 // works in place (permutations included), multiplies complex numbers by hand on (re, im) pairs
 // (std::complex's operator* carries NaN-recovery branches), and hands chunks of a fixed size to
 // the thread pool, so results never depend on the number of threads.
@@ -44,6 +45,7 @@ struct exec_policy {
   std::uint64_t min_parallel = std::uint64_t{1} << 16;
   mux_strategy mux = mux_strategy::automatic;
   simd_level simd = simd_level::automatic;
+  float_math math = float_math::double_precision;
 };
 
 // Members per chunk: fixed, so chunk boundaries (and per-chunk partial sums) do not depend on
@@ -398,6 +400,37 @@ void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qub
         job.dense_re = re.data();
         job.dense_im = im.data();
       }
+#ifdef QRM_HAS_CPU_DISPATCH
+      // Float arithmetic (asked for, and a CPU with AVX2): eight neighbouring bases per 512-bit
+      // register where the lowest 3 qubits are free, else four per 256-bit register (neighbours,
+      // or gathered as in base_groups); else double below.
+      if constexpr (std::is_same_v<S, std::complex<float>>) {
+        const bool wide = job.level == simd_level::avx512 && s.run_log2() >= 3;
+        const base_groups gr = group_bases(s, 4);
+        if (ex.math == float_math::single_precision && job.level != simd_level::generic && (wide || gr.ok)) {
+          const std::vector<float> dense_re(re.begin(), re.end()), dense_im(im.begin(), im.end());
+          const std::vector<float> rows_re(rows.re.begin(), rows.re.end()), rows_im(rows.im.begin(), rows.im.end());
+          job.dense_re_f = dense_re.data();
+          job.dense_im_f = dense_im.data();
+          job.rows_re_f = rows_re.data();
+          job.rows_im_f = rows_im.data();
+          if (wide) {
+            static constexpr std::uint64_t neighbours[4] = {0, 1, 2, 3};
+            for_each_chunk(s, ex, m.dim, [&](std::uint64_t k0, std::uint64_t k1) {
+              csr_range<S, 8, true, float>(job, s, neighbours, k0, k1);
+            });
+          } else {
+            for_each_chunk(gr.bases, ex, m.dim * (gr.contiguous ? 1 : 4), [&](std::uint64_t k0, std::uint64_t k1) {
+              if (gr.contiguous)
+                csr_range<S, 4, true, float>(job, gr.bases, gr.g, k0, k1);
+              else
+                csr_range<S, 4, false, float>(job, gr.bases, gr.g, k0, k1);
+            });
+          }
+          return;
+        }
+      }
+#endif
       // Four bases per vector where the CPU has 512-bit registers, else two; a state too
       // small for that many free qubits takes the row-list path below.
       for (unsigned per = job.level == simd_level::avx512 ? 4 : 2; per >= 2; per /= 2) {
