@@ -4,8 +4,10 @@
 // ops; the circuit `qrm circuit --scene paper_8x8 --x 3 --y 4 --qasm F --decomposed` writes) and the
 // random suite of qrm simulate --random (22 qubits, 300 gates of H, Ry, CX, CCX, C^4 X).
 // Args: circuit (0 walk, 1 random, 2 the walk on a 23-qubit state: two idle qubits on top, the
-// size at which two threads are measured), fusion width (0: unfused), simd (qrm::simd_level: 0
-// the best this CPU has, 2 AVX2, 3 AVX-512), threads. complex<float> runs twice: in double
+// size at which two threads are measured, 3 the random suite on 24 qubits: 128-256 MiB, beyond
+// any cache), fusion width (0: unfused), simd (qrm::simd_level: 0 the best this CPU has, 2 AVX2,
+// 3 AVX-512), threads, chunk (KiB of the chunks qrm::run applies runs of ops in, see
+// dense_options::chunk_bytes; 0: op by op, as every run before chunks existed). complex<float> runs twice: in double
 // arithmetic (the default) and in float arithmetic (qrm::float_math::single_precision, the
 // precision Google qsim computes in).
 #include <benchmark/benchmark.h>
@@ -28,12 +30,13 @@ const qrm::program& circuit(int which) {
     return qrm::decompose(w.circuit).circuit;
   }();
   static const qrm::program suite = qrm_cli::random_gate_suite(22, 300, 1);
+  static const qrm::program suite24 = qrm_cli::random_gate_suite(24, 300, 1);
   static const qrm::program wide_walk = [] {
     qrm::program p(walk.width() + 2);
     for (const qrm::op::any& o : walk.ops()) p.push(o);
     return p;
   }();
-  return which == 0 ? walk : which == 1 ? suite : wide_walk;
+  return which == 0 ? walk : which == 1 ? suite : which == 2 ? wide_walk : suite24;
 }
 
 template <class S, qrm::float_math Math = qrm::float_math::double_precision>
@@ -45,6 +48,7 @@ void BM_fusion(benchmark::State& st) {
   o.threads = static_cast<unsigned>(st.range(3));
   o.simd = static_cast<qrm::simd_level>(st.range(2));
   o.math = Math;
+  o.chunk_bytes = static_cast<std::uint64_t>(st.range(4)) << 10;
   qrm::state_vector<S> s(p.width(), o);
   for (auto _ : st) {
     s.set_basis_state(0);
@@ -54,33 +58,41 @@ void BM_fusion(benchmark::State& st) {
   st.counters["qubits"] = static_cast<double>(p.width());
   st.counters["ops"] = static_cast<double>(run.size());
   st.counters["threads"] = static_cast<double>(o.threads);
+  st.counters["chunk_kib"] = static_cast<double>(st.range(4));
   st.SetLabel(qrm::simd_level_name(qrm::detail::resolve_simd(o.simd)));
 }
 
 }  // namespace
 
 BENCHMARK(BM_fusion<std::complex<double>>)
-    ->ArgNames({"circuit", "fuse", "simd", "threads"})
-    ->ArgsProduct({{0, 1}, {0, 2, 3, 4, 5}, {0}, {1}})
-    ->ArgsProduct({{0, 1}, {3, 4}, {2}, {1}})
-    ->ArgsProduct({{2}, {3}, {0}, {1, 2}})
+    ->ArgNames({"circuit", "fuse", "simd", "threads", "chunk"})
+    ->ArgsProduct({{0, 1}, {0, 2, 3, 4, 5}, {0}, {1}, {0}})
+    ->ArgsProduct({{0, 1}, {3, 4}, {2}, {1}, {0}})
+    ->ArgsProduct({{2}, {3}, {0}, {1, 2}, {0}})
+    ->ArgsProduct({{0, 1, 3}, {0, 3}, {0}, {1}, {1024}})
+    ->ArgsProduct({{3}, {0, 3}, {0}, {1}, {0}})
+    ->ArgsProduct({{2}, {3}, {0}, {1, 2}, {1024}})
+    ->ArgsProduct({{3}, {3}, {0}, {2}, {0, 1024}})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
     ->Repetitions(3);
 BENCHMARK(BM_fusion<std::complex<float>>)
-    ->ArgNames({"circuit", "fuse", "simd", "threads"})
-    ->ArgsProduct({{0, 1}, {0, 3, 4}, {0}, {1}})
-    ->ArgsProduct({{2}, {3}, {0}, {1, 2}})
+    ->ArgNames({"circuit", "fuse", "simd", "threads", "chunk"})
+    ->ArgsProduct({{0, 1}, {0, 3, 4}, {0}, {1}, {0}})
+    ->ArgsProduct({{2}, {3}, {0}, {1, 2}, {0}})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
     ->Repetitions(3);
 BENCHMARK(BM_fusion<std::complex<float>, qrm::float_math::single_precision>)
-    ->ArgNames({"circuit", "fuse", "simd", "threads"})
-    ->ArgsProduct({{0, 1}, {3, 4, 5}, {0}, {1}})
-    ->ArgsProduct({{0, 1}, {3}, {2}, {1}})
-    ->ArgsProduct({{2}, {3}, {0}, {1, 2}})
+    ->ArgNames({"circuit", "fuse", "simd", "threads", "chunk"})
+    ->ArgsProduct({{0, 1}, {3, 4, 5}, {0}, {1}, {0}})
+    ->ArgsProduct({{0, 1}, {3}, {2}, {1}, {0}})
+    ->ArgsProduct({{2}, {3}, {0}, {1, 2}, {0}})
+    ->ArgsProduct({{0, 1, 3}, {3}, {0}, {1}, {1024}})
+    ->ArgsProduct({{3}, {3}, {0}, {1}, {0}})
+    ->ArgsProduct({{2}, {3}, {0}, {1, 2}, {1024}})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)

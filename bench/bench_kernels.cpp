@@ -112,6 +112,25 @@ void BM_gate1_generic(benchmark::State& st) {
   touch_bytes_label<S>(st, n);
 }
 
+// The same on complex<float> in float arithmetic (qrm::float_math::single_precision; targets
+// 0..2 run dense_pairs.hpp's in-register kernel): args n, target (0, n/2, n-1), threads.
+void BM_gate1_generic_float_math(benchmark::State& st) {
+  const int n = static_cast<int>(st.range(0));
+  const auto target = static_cast<qrm::qubit_index>(st.range(1) == 0 ? 0 : st.range(1) == 1 ? n / 2 : n - 1);
+  static std::unique_ptr<qrm::state_vector<std::complex<float>>> s;
+  if (!s || s->num_qubits() != static_cast<std::size_t>(n)) {
+    s.reset();
+    qrm::dense_options o;
+    o.math = qrm::float_math::single_precision;
+    s = std::make_unique<qrm::state_vector<std::complex<float>>>(n, o);
+  }
+  s->set_threads(static_cast<unsigned>(st.range(2)));
+  const qrm::gate1 g = qrm::gate::u(cd(0.6, 0.0), cd(0.0, 0.8), cd(0.0, 0.8), cd(0.6, 0.0));
+  for (auto _ : st) s->apply_gate1(g, target, {});
+  report(st, 2.0 * std::ldexp(sizeof(std::complex<float>), n));
+  touch_bytes_label<std::complex<float>>(st, n);
+}
+
 // A complex (non-real) 2x2 gate: the full complex multiply.
 void BM_gate1_complex(benchmark::State& st) {
   const int n = static_cast<int>(st.range(0));
@@ -182,6 +201,7 @@ void sizes_and_threads(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_gate1<cd>)->ArgNames({"n", "target", "threads"})->ArgsProduct({{20, 22, 24, 26}, {0, 1, 2}, {1, 2}})->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_gate1<std::complex<float>>)->ArgNames({"n", "target", "threads"})->ArgsProduct({{26}, {0, 1, 2}, {1, 2}})->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_gate1_generic<std::complex<float>>)->ArgNames({"n", "target", "threads"})->ArgsProduct({{26}, {0, 1, 2}, {1, 2}})->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_gate1_generic_float_math)->ArgNames({"n", "target", "threads"})->ArgsProduct({{26}, {0, 1, 2}, {1}})->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_gate1<double>)->ArgNames({"n", "target", "threads"})->ArgsProduct({{26}, {0, 1, 2}, {1, 2}})->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_gate1_complex)->ArgNames({"n", "threads"})->Apply(sizes_and_threads)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_mcx<cd>)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{20, 22, 24, 26}, {1, 4, 8, 12}, {0, 1}, {1, 2}})->UseRealTime()->Unit(benchmark::kMicrosecond);

@@ -71,6 +71,7 @@ struct run_settings {
   unsigned repeat = 3;
   qrm::simd_level simd = qrm::simd_level::automatic;
   qrm::float_math math = qrm::float_math::double_precision;
+  std::uint64_t chunk_bytes = 0;  // dense backend: runs of ops applied chunk by chunk (0: op by op)
   std::string state_out;  // empty: do not write the state
 };
 
@@ -127,6 +128,7 @@ simulation simulate(const qrm::program& program, const qrm::program* plain, cons
   o.threads = rs.threads;
   o.simd = rs.simd;
   o.math = rs.math;
+  o.chunk_bytes = rs.chunk_bytes;
   return simulate_on<S, qrm::state_vector<S>>(program, plain, rs, [&](std::size_t n) { return qrm::state_vector<S>(n, o); });
 }
 
@@ -162,6 +164,10 @@ flag_table simulate_flags() {
       {"arithmetic", "double|float", "double",
        "with --scalar complex-float: what the matrix kernels compute in (float: as qsim, about 2x faster, the norm "
        "drifts more)",
+       run},
+      {"chunk", "KIB|off", "1024",
+       "dense backend: runs of ops whose qubits fit a chunk of KIB KiB are applied chunk by chunk, one pass over "
+       "memory per run (about the L2 cache; off: every op its own pass)",
        run},
       {"repeat", "R", "3", "runs of the circuit; the fastest is reported", run},
       {"compare", "", "", "also run without fusion: both times and the largest amplitude difference", run},
@@ -210,6 +216,15 @@ int cmd_simulate(args& a) {
   else if (simd_arg == "avx2") simd = qrm::simd_level::avx2;
   else if (simd_arg == "avx512") simd = qrm::simd_level::avx512;
   else if (simd_arg != "auto") throw usage_error("--simd must be auto, generic, avx2 or avx512, got '" + simd_arg + "'");
+  const std::string chunk_arg = a.str("chunk", "1024");
+  std::uint64_t chunk_kib = 0;
+  if (chunk_arg != "off") {
+    if (chunk_arg.empty() || chunk_arg.size() > 7 || chunk_arg.find_first_not_of("0123456789") != std::string::npos ||
+        std::stoull(chunk_arg) < 1 || std::stoull(chunk_arg) > 1048576)
+      throw usage_error("--chunk must be a size in KiB from 1 to 1048576, or off, got '" + chunk_arg + "'");
+    chunk_kib = std::stoull(chunk_arg);
+  }
+  if (compact && a.has("chunk")) throw usage_error("--chunk applies to --backend dense");
   const char* simd_used = qrm::simd_level_name(qrm::detail::resolve_simd(simd));
   const std::string format = a.str("format", "json");
   if (format != "json" && format != "text") throw usage_error("--format must be json or text, got '" + format + "'");
@@ -256,6 +271,7 @@ int cmd_simulate(args& a) {
   rs.repeat = repeat;
   rs.simd = simd;
   rs.math = arithmetic == "float" ? qrm::float_math::single_precision : qrm::float_math::double_precision;
+  rs.chunk_bytes = chunk_kib << 10;
   rs.state_out = state_out;
   const simulation sim = simulate_scalar(scalar, fuse_width ? fused : p, compare ? &p : nullptr, rs);
   const timed_run& main_run = sim.run;
@@ -270,8 +286,9 @@ int cmd_simulate(args& a) {
     if (compact)
       std::printf("run       %s, compact backend: %.6g s (fastest of %u)\n", scalar.c_str(), fastest(main_run), repeat);
     else
-      std::printf("run       %s, %u thread(s), %s kernels%s: %.6g s (fastest of %u)\n", scalar.c_str(), used_threads,
-                  simd_used, arithmetic == "float" ? " in float arithmetic" : "", fastest(main_run), repeat);
+      std::printf("run       %s, %u thread(s), %s kernels%s, chunks of %s: %.6g s (fastest of %u)\n", scalar.c_str(),
+                  used_threads, simd_used, arithmetic == "float" ? " in float arithmetic" : "",
+                  chunk_kib ? (std::to_string(chunk_kib) + " KiB").c_str() : "off", fastest(main_run), repeat);
     if (compare)
       std::printf("unfused   %.6g s: fused takes %.3gx the unfused time; largest |difference| %.3g\n", fastest(plain),
                   fastest(main_run) / fastest(plain), difference);
@@ -283,6 +300,12 @@ int cmd_simulate(args& a) {
   j.add("circuit", source).add("qubits", p.width()).add("gates", p.size()).add("ops", p.size()).add("scalar", scalar);
   j.add("backend", backend).add("threads", used_threads);
   if (!compact) j.add("simd", simd_used);
+  if (!compact) {
+    if (chunk_kib)
+      j.add("chunk_kib", chunk_kib);
+    else
+      j.add("chunk_kib", "off");
+  }
   if (scalar == "complex-float" && !compact) j.add("arithmetic", arithmetic);
   j.add("repeat", repeat);
   if (fuse_width) {

@@ -11,6 +11,8 @@
 - The file holds exactly 2^n amplitudes of the --scalar type (no header, no padding).
 - A seeded random suite on 12 qubits: the compact and dense backends' states agree to 1e-12, and
   `--compare` (fused vs unfused on one backend) reports a difference <= 1e-12 with complex<double>.
+- --chunk: the random suite applied in chunks of 1 KiB (runs of ops chunk by chunk) gives the
+  op-by-op state (--chunk off) to 1e-12 (complex-double) / 1e-5 (complex-float), fused and not.
 - --arithmetic float reaches the kernels: a complex-float state that differs from double
   arithmetic's, by at most 1e-5.
 - The JSON has qubits, gates, fused_ops, seconds and norm (norm within 1e-9 of 1).
@@ -148,6 +150,21 @@ def main():
         if j["fused_ops"] >= j["gates"]:
             failures.append("random suite, %s: fusion left %d ops of %d gates" % (backend, j["fused_ops"], j["gates"]))
         states[backend] = read_state(out, "complex-double")
+    # --chunk 1: 64-128 amplitudes per chunk of a 12-qubit state, so runs of ops go chunk by chunk.
+    for scalar, tolerance in (("complex-double", 1e-12), ("complex-float", 1e-5)):
+        for fuse in ("off", "3"):
+            chunked = {}
+            for chunk in ("off", "1"):
+                out = os.path.join(work, "chunk_%s.bin" % chunk)
+                r = run(qrm, ["--random", "12", "--gates", "200", "--seed", "5", "--scalar", scalar, "--fuse", fuse,
+                              "--chunk", chunk, "--threads", "2", "--repeat", "1", "--state-out", out])
+                reported = json.loads(r.stdout).get("chunk_kib")
+                if reported != (1 if chunk == "1" else "off"):
+                    failures.append("--chunk %s: the JSON says chunk_kib %r" % (chunk, reported))
+                chunked[chunk] = read_state(out, scalar)
+            worst = max(abs(a - b) for a, b in zip(chunked["off"], chunked["1"]))
+            if worst > tolerance:
+                failures.append("--chunk 1 against off, %s --fuse %s: states differ by %.3g" % (scalar, fuse, worst))
     # --arithmetic float (complex<float>): computed differently from double arithmetic (the
     # flag reaches the kernels), within float rounding of it (1e-5, as above).
     floats = {}
@@ -174,6 +191,9 @@ def main():
         (["--random", "10", "--arithmetic", "half"], "--arithmetic must be double or float, got 'half'"),
         (["--random", "10", "--arithmetic", "float"], "--arithmetic float applies to --scalar complex-float on --backend dense"),
         (["--random", "10", "--fuse", "9"], "--fuse must be a width 1..6, on or off, got '9'"),
+        (["--random", "10", "--chunk", "0"], "--chunk must be a size in KiB from 1 to 1048576, or off, got '0'"),
+        (["--random", "10", "--chunk", "1M"], "--chunk must be a size in KiB from 1 to 1048576, or off, got '1M'"),
+        (["--random", "10", "--backend", "compact", "--chunk", "64"], "--chunk applies to --backend dense"),
         (["--random", "10", "--state-out", ""], "--state-out needs a value"),
         (["--random", "35", "--backend", "compact", "--state-out", os.path.join(work, "big.bin")],
          "--state-out writes all 2^35 amplitudes; it is limited to 34 qubits"),

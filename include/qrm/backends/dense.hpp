@@ -7,6 +7,7 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <complex>
 #include <cstdio>
@@ -27,10 +28,12 @@
 #include "backend.hpp"
 #include "detail/aligned_allocator.hpp"
 #include "detail/bits.hpp"
+#include "detail/dense_blocked.hpp"
 #include "detail/dense_kernels.hpp"
 #include "detail/validate.hpp"
 #include "detail/scalar.hpp"
 #include "../circuit/ops.hpp"
+#include "../circuit/program.hpp"
 
 namespace qrm {
 
@@ -45,6 +48,10 @@ struct dense_options {
   simd_level simd = simd_level::automatic;
   // What those kernels compute complex<float> amplitudes in (double unless asked): see qrm::float_math.
   float_math math = float_math::double_precision;
+  // Programs (qrm::run) apply runs of ops that fit in chunks of this many bytes chunk by chunk,
+  // one trip to memory per run instead of per op (detail/dense_blocked.hpp); 0: op by op. The
+  // default is a typical per-core L2 cache (bench/RESULTS.md measures 256 KiB to 4 MiB).
+  std::uint64_t chunk_bytes = std::uint64_t{1} << 20;
 };
 
 namespace detail {
@@ -99,6 +106,7 @@ class state_vector {
     ex_.mux = opt.mux;
     ex_.simd = opt.simd;
     ex_.math = opt.math;
+    chunk_bytes_ = opt.chunk_bytes;
     try {
       amps_.assign(static_cast<std::size_t>(std::uint64_t{1} << n_), Scalar{});
     } catch (const std::bad_alloc&) {
@@ -166,6 +174,28 @@ class state_vector {
                                op.cond.mask, op.cond.value, ex_);
   }
 
+  // Applies ops in order (qrm::run calls this): the state of applying them one by one, to
+  // rounding, with runs of ops that fit a chunk of dense_options::chunk_bytes applied chunk by chunk.
+  void run_ops(std::span<const op::any> ops) {
+    unsigned m = 0;  // qubits of a chunk
+    while (m < 40 && (std::uint64_t{sizeof(Scalar)} << (m + 1)) <= chunk_bytes_) ++m;
+    if (chunk_bytes_ == 0 || m < 4 || m >= n_) {
+      for (const op::any& o : ops) emit_op(o, *this);
+      return;
+    }
+    // Every op is checked on the whole state first: chunks see renumbered qubits.
+    const auto ck = checks();
+    detail::validating_sink<decltype(ck)> validator{ck};
+    for (const op::any& o : ops) emit_op(o, validator);
+    for (const detail::op_run& r : detail::plan_runs(ops, n_, m, detail::chunk_low_qubits<Scalar>())) {
+      if (r.local == 0)
+        emit_op(ops[r.first], *this);
+      else
+        detail::run_in_chunks(amps_.data(), n_, ops.subspan(r.first, r.last - r.first), r.local, ex_);
+    }
+  }
+  void set_chunk_bytes(std::uint64_t bytes) { chunk_bytes_ = bytes; }
+
   // ---- reading the state ----------------------------------------------------------------------
 
   // Sum of |a|^2 (1 for a normalised state), summed in a fixed order.
@@ -198,6 +228,7 @@ class state_vector {
   unsigned n_;
   std::vector<Scalar, detail::huge_page_allocator<Scalar>> amps_;
   detail::exec_policy ex_;
+  std::uint64_t chunk_bytes_ = 0;
 };
 
 // dense_backend: the dense backend as a type (qrm::backend_family): real or complex double.

@@ -262,7 +262,10 @@ void run(B& backend, const program& p) {
                                       " has a complex matrix but the backend stores real amplitudes");
     }
   }
-  p.emit(backend);
+  if constexpr (requires { backend.run_ops(p.ops()); })
+    backend.run_ops(p.ops());  // a backend that schedules whole programs (the dense one: cache-sized chunks)
+  else
+    p.emit(backend);
 }
 
 }  // namespace qrm

@@ -35,7 +35,8 @@ namespace qrm {
 enum class simd_level : unsigned char { automatic, generic, avx2, avx512 };
 
 // What the matrix kernels (fused blocks, and complex<float> gates above target 0 on states of 12
-// or more free qubits) compute complex<float> amplitudes in. double_precision, the default: each
+// or more free qubits) and the low-target pair kernel (dense_pairs.hpp) compute complex<float>
+// amplitudes in. double_precision, the default: each
 // output is a sum of double products rounded to float once, so one gate repeated 2 x 10^4 times
 // keeps the norm to 2e-7. single_precision: float products and sums, as Google qsim computes;
 // twice the amplitudes per register and no conversions (the decomposed walk fused runs about

@@ -24,6 +24,7 @@
 #include "../../circuit/ops.hpp"
 #include "bits.hpp"
 #include "dense_batched.hpp"
+#include "dense_pairs.hpp"
 #include "dense_swap.hpp"
 #include "scalar.hpp"
 #include "../../support/detail/thread_pool.hpp"
@@ -249,6 +250,27 @@ void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cm
     return;
   }
   if constexpr (std::is_same_v<S, std::complex<float>>) {
+#ifdef QRM_HAS_CPU_DISPATCH
+    // Targets 0..1 (AVX2) or 0..2 (AVX-512) in float arithmetic, where the controls leave runs
+    // of whole vectors (no control below qubit 2 or 3): see dense_pairs.hpp.
+    if (ex.math == float_math::single_precision) {
+      const simd_level level = resolve_simd(ex.simd);
+      const subspace sc(n, cmask, cvalue);
+      const std::uint64_t run_c = sc.npos ? (std::uint64_t{1} << sc.pos[0]) : sc.count();
+      const std::uint64_t per_vector = level == simd_level::avx512 ? 8 : 4;  // amplitudes
+      if (level != simd_level::generic && 2 * st <= per_vector && std::min(run_c, chunk_members) >= per_vector) {
+        const pair_coefficients c = pair_coefficients::of(g, t);
+        float* p = reinterpret_cast<float*>(a);
+        for_each_run(sc, ex, 2, [&](std::uint64_t i0, std::uint64_t len) {
+          if (level == simd_level::avx512)
+            low_target_pairs_avx512(p + 2 * i0, len, t, c);
+          else
+            low_target_pairs_avx2(p + 2 * i0, len, t, c);
+        });
+        return;
+      }
+    }
+#endif
     // Above target 0, the matrix kernel's vectors (floats widened to double, two or four bases
     // per register) run 1.5-3x faster than the scalar pair loop below (2^22 amplitudes, one
     // thread); at target 0 the pair loop is already one vectorised stream. Small states keep

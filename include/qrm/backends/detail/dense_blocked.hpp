@@ -1,0 +1,260 @@
+// qrm/backends/detail/dense_blocked.hpp: runs a list of ops one cache-sized chunk of the state at a time.
+//
+// A kernel makes one pass over the state per op, and a state larger than the cache makes each
+// pass a trip to memory. But ops whose moving qubits (targets, added bits, select qubits; not
+// controls) all lie in a set L of m qubits never mix amplitudes whose bits outside L differ: the
+// state splits into 2^(n-m) chunks of 2^m amplitudes that evolve independently. So a run of such
+// ops costs one trip: each chunk is brought into cache (in place when L is the lowest m qubits,
+// else copied into a buffer in runs of the contiguous low qubits), every op of the run is
+// applied to it with its qubits renumbered (a control outside L is a constant of the chunk: the op
+// is skipped, or applied without that control), and the chunk is written back. Chunks are
+// independent, so they are also the unit of parallel work.
+//
+// Runs are formed greedily in program order: an op joins the current run while the union of the
+// run's moving qubits stays within m. A run with fewer than two memory-bound ops (see
+// memory_bound) is applied op by op to the whole state as usual.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "../../circuit/program.hpp"
+#include "../../support/detail/thread_pool.hpp"
+#include "bits.hpp"
+#include "dense_kernels.hpp"
+
+namespace qrm::detail {
+
+// Moving qubits of an op as a mask (targets, added bits, select qubits: the qubits a chunk must hold).
+template <int = 0>
+std::uint64_t moving_mask(const op::any& o) {
+  std::uint64_t m = 0;
+  auto add = [&m](std::span<const qubit_index> qs) {
+    for (qubit_index q : qs) m |= q < 64 ? std::uint64_t{1} << q : 0;
+  };
+  visit_op(o, [&](const auto& x) {
+    using T = std::decay_t<decltype(x)>;
+    if constexpr (std::is_same_v<T, op::gate1_op>) {
+      add(std::span<const qubit_index>(&x.target, 1));
+    } else if constexpr (std::is_same_v<T, op::add_op>) {
+      add(x.bits);
+    } else if constexpr (std::is_same_v<T, op::mux1_op>) {
+      add(std::span<const qubit_index>(&x.target, 1));
+      add(x.select);
+    } else if constexpr (std::is_same_v<T, op::mux_unitary_op>) {
+      add(x.targets);
+      add(x.select);
+    } else {
+      add(x.targets);
+    }
+  });
+  return m;
+}
+
+// The lowest qubits every chunk keeps: 128 contiguous bytes, whole cache lines per copied run.
+template <class S>
+constexpr unsigned chunk_low_qubits() {
+  return static_cast<unsigned>(std::countr_zero(128 / sizeof(S)));
+}
+
+// Ops [first, last) run chunk by chunk over the qubits `local` (a mask of m qubits), or on the whole
+// state when local == 0.
+struct op_run {
+  std::size_t first = 0, last = 0;
+  std::uint64_t local = 0;
+};
+
+// Whether an op's kernel waits on memory: everything but matrices on 3 or more qubits, which do
+// at least 8 complex multiply-adds per amplitude and run as fast from memory as from cache (an
+// 8x8 complex<float> matrix: 0.37 ns per amplitude at n = 15 and 0.41 at n = 21, AMD EPYC VM,
+// 2026-12-04). Only such ops gain from a chunk; for the others its copy would be pure cost.
+template <int = 0>
+bool memory_bound(const op::any& o) {
+  if (const auto* u = std::get_if<op::unitary_op>(&o)) return u->targets.size() < 3;
+  if (const auto* u = std::get_if<op::mux_unitary_op>(&o)) return u->targets.size() < 3;
+  return true;
+}
+
+// The runs of `ops` for chunks of m qubits in an n-qubit state (see the top of this header). Every
+// chunk holds the lowest `low` qubits, so a copied chunk moves runs of 2^low contiguous amplitudes
+// (one amplitude at a time would cost more than the ops it saves).
+template <int = 0>
+std::vector<op_run> plan_runs(std::span<const op::any> ops, unsigned n, unsigned m, unsigned low = 0) {
+  std::vector<op_run> runs;
+  const std::uint64_t reserved = (std::uint64_t{1} << std::min(low, m)) - 1;
+  std::uint64_t cur = reserved;
+  std::size_t start = 0;
+  auto close = [&](std::size_t end) {
+    if (end == start) return;
+    const auto cheap = std::count_if(ops.begin() + static_cast<std::ptrdiff_t>(start),
+                                     ops.begin() + static_cast<std::ptrdiff_t>(end), memory_bound<>);
+    if (cheap < 2) {
+      for (std::size_t i = start; i < end; ++i) runs.push_back({i, i + 1, 0});
+    } else {
+      // Pad with the lowest free qubits: longer contiguous runs to copy, and in place when L = {0..m-1}.
+      for (unsigned q = 0; q < n && std::popcount(cur) < static_cast<int>(m); ++q) cur |= std::uint64_t{1} << q;
+      runs.push_back({start, end, cur});
+    }
+    start = end;
+    cur = reserved;
+  };
+  for (std::size_t i = 0; i < ops.size(); ++i) {
+    const std::uint64_t mv = moving_mask(ops[i]);
+    if (std::popcount(cur | mv) > static_cast<int>(m)) close(i);
+    if (std::popcount(mv | reserved) > static_cast<int>(m)) {
+      runs.push_back({i, i + 1, 0});
+      start = i + 1;
+      continue;
+    }
+    cur |= mv;
+  }
+  close(ops.size());
+  return runs;
+}
+
+// A gate sink that only checks operands (op_checks), so ops are validated on the whole state
+// before chunks apply them.
+template <class Checks>
+struct validating_sink {
+  const Checks& checks;
+  void apply_gate1(const gate1& g, qubit_index t, std::span<const control> cs) { checks.gate1(g, t, cs); }
+  void apply_unitary(const dense_matrix& m, std::span<const qubit_index> ts, std::span<const control> cs) {
+    checks.unitary(m, ts, cs);
+  }
+  void apply_add(std::int64_t, std::span<const qubit_index> bits, std::span<const control> cs) { checks.add(bits, cs); }
+  void apply_mux1(std::span<const mux1_entry> e, qubit_index t, std::span<const qubit_index> sel,
+                  std::span<const control> cs) {
+    checks.mux1(e, t, sel, cs);
+  }
+  void apply_mux_unitary(std::span<const dense_matrix> ms, std::span<const mux_unitary_entry> e,
+                         std::span<const qubit_index> ts, std::span<const qubit_index> sel, std::span<const control> cs) {
+    checks.mux_unitary(ms, e, ts, sel, cs);
+  }
+};
+
+// A gate sink on one chunk: 2^m amplitudes at `a`, qubit q of the state is bit local_of[q] of a
+// chunk index (or outside the chunk, at its value in `base`). Ops come validated on the whole state.
+template <class S>
+struct chunk_sink {
+  S* a;
+  unsigned m;
+  const std::array<signed char, 64>* local_of;
+  std::uint64_t base;  // the chunk's bits outside L, at their positions in the state
+  exec_policy ex;
+
+  unsigned local(qubit_index q) const { return static_cast<unsigned>((*local_of)[q]); }
+  // Local masks of the controls; false if a control outside the chunk does not hold in it.
+  bool condition(std::span<const control> cs, std::uint64_t& mask, std::uint64_t& value) const {
+    mask = value = 0;
+    for (const control& c : cs) {
+      if ((*local_of)[c.qubit] < 0) {
+        if (((base >> c.qubit) & 1u) != static_cast<std::uint64_t>(c.value)) return false;
+        continue;
+      }
+      mask |= std::uint64_t{1} << local(c.qubit);
+      if (c.value) value |= std::uint64_t{1} << local(c.qubit);
+    }
+    return true;
+  }
+  // Local positions of qs (order kept) in buf, and their mask.
+  std::span<const qubit_index> renumber(std::span<const qubit_index> qs, std::array<qubit_index, 64>& buf,
+                                        std::uint64_t& mask) const {
+    mask = 0;
+    for (std::size_t i = 0; i < qs.size(); ++i) {
+      buf[i] = local(qs[i]);
+      mask |= std::uint64_t{1} << buf[i];
+    }
+    return {buf.data(), qs.size()};
+  }
+
+  void apply_gate1(const gate1& g, qubit_index t, std::span<const control> cs) {
+    std::uint64_t cm, cv;
+    if (condition(cs, cm, cv)) kernel_gate1(a, m, g, local(t), cm, cv, ex);
+  }
+  void apply_unitary(const dense_matrix& mat, std::span<const qubit_index> targets, std::span<const control> cs) {
+    std::uint64_t cm, cv, tm;
+    std::array<qubit_index, 64> tb;
+    if (!condition(cs, cm, cv)) return;
+    const auto lt = renumber(targets, tb, tm);
+    kernel_unitary(a, m, mat, lt, tm, cm, cv, ex);
+  }
+  void apply_add(std::int64_t constant, std::span<const qubit_index> bits, std::span<const control> cs) {
+    std::uint64_t cm, cv, rm;
+    std::array<qubit_index, 64> bb;
+    if (bits.empty() || !condition(cs, cm, cv)) return;
+    const auto lb = renumber(bits, bb, rm);
+    kernel_add(a, m, constant, lb, rm, cm, cv, ex);
+  }
+  void apply_mux1(std::span<const mux1_entry> entries, qubit_index t, std::span<const qubit_index> select,
+                  std::span<const control> cs) {
+    std::uint64_t cm, cv, sm;
+    std::array<qubit_index, 64> sb;
+    if (!condition(cs, cm, cv)) return;
+    const auto ls = renumber(select, sb, sm);
+    kernel_mux1(a, m, entries, local(t), ls, sm, cm, cv, ex);
+  }
+  void apply_mux_unitary(std::span<const dense_matrix> matrices, std::span<const mux_unitary_entry> entries,
+                         std::span<const qubit_index> targets, std::span<const qubit_index> select,
+                         std::span<const control> cs) {
+    std::uint64_t cm, cv, tm, sm;
+    std::array<qubit_index, 64> tb, sb;
+    if (!condition(cs, cm, cv)) return;
+    const auto lt = renumber(targets, tb, tm);
+    const auto ls = renumber(select, sb, sm);
+    kernel_mux_unitary(a, m, matrices, entries, lt, tm, ls, sm, cm, cv, ex);
+  }
+};
+
+// Applies ops (validated) chunk by chunk over the qubits of `local` (m of the state's n).
+template <class S>
+void run_in_chunks(S* a, unsigned n, std::span<const op::any> ops, std::uint64_t local, const exec_policy& ex) {
+  const unsigned m = static_cast<unsigned>(std::popcount(local));
+  std::array<signed char, 64> local_of;
+  local_of.fill(-1);
+  std::vector<qubit_index> inside, outside;
+  for (unsigned q = 0; q < n; ++q) {
+    if ((local >> q) & 1u) {
+      local_of[q] = static_cast<signed char>(inside.size());
+      inside.push_back(q);
+    } else {
+      outside.push_back(q);
+    }
+  }
+  const unsigned low = static_cast<unsigned>(std::countr_one(local));  // contiguous lowest qubits of L
+  const bool in_place = low == m;
+  const std::uint64_t run_len = std::uint64_t{1} << low, runs = std::uint64_t{1} << (m - low);
+  const std::span<const qubit_index> upper(inside.data() + low, inside.size() - low);
+  std::vector<std::uint64_t> run_offset(static_cast<std::size_t>(runs));  // state offset of each copied run
+  if (!in_place)
+    for (std::uint64_t r = 0; r < runs; ++r) run_offset[r] = deposit(r, upper);
+  exec_policy one = ex;
+  one.threads = 1;
+  const std::uint64_t chunks = std::uint64_t{1} << (n - m);
+  auto do_chunk = [&](std::uint64_t c) {
+    const std::uint64_t base = deposit(c, outside);
+    S* chunk = a + base;
+    thread_local std::vector<S> buffer;
+    if (!in_place) {
+      if (buffer.size() < (std::size_t{1} << m)) buffer.resize(std::size_t{1} << m);
+      chunk = buffer.data();
+      for (std::uint64_t r = 0; r < runs; ++r) std::copy_n(a + base + run_offset[r], run_len, chunk + (r << low));
+    }
+    chunk_sink<S> sink{chunk, m, &local_of, base, one};
+    for (const op::any& o : ops) emit_op(o, sink);
+    if (!in_place)
+      for (std::uint64_t r = 0; r < runs; ++r) std::copy_n(chunk + (r << low), run_len, a + base + run_offset[r]);
+  };
+  if (ex.threads <= 1 || chunks < 2) {
+    for (std::uint64_t c = 0; c < chunks; ++c) do_chunk(c);
+    return;
+  }
+  shared_pool().parallel_for(static_cast<std::size_t>(chunks), ex.threads,
+                             [&](std::size_t c) { do_chunk(static_cast<std::uint64_t>(c)); });
+}
+
+}  // namespace qrm::detail
