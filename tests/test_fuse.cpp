@@ -55,6 +55,33 @@ bool same_op(const qrm::op::any& a, const qrm::op::any& b) {
   return true;
 }
 
+// `count` unitary gates on n qubits from small pools (16 single-qubit gates, 4 two-qubit
+// matrices, complex): a gate alone, a gate under one control of either value, or a two-qubit matrix.
+qrm::program small_gate_program(std::size_t n, int count, qrm::rng& g) {
+  std::vector<qrm::gate1> pool;
+  std::vector<qrm::dense_matrix> two;
+  for (int i = 0; i < 16; ++i) pool.push_back(random_gate1_unitary(g, true));
+  for (int i = 0; i < 4; ++i) two.push_back(random_unitary(2, g, true));
+  qrm::program p(n);
+  for (int i = 0; i < count; ++i) {
+    const auto t = static_cast<qubit_index>(g.below(n));
+    const auto other = static_cast<qubit_index>((t + 1 + g.below(n - 1)) % n);
+    switch (g.below(3)) {
+      case 0: p.apply_gate1(pool[g.below(pool.size())], t, {}); break;
+      case 1: {
+        const std::vector<control> cs = {{other, g.below(2) == 1}};
+        p.apply_gate1(pool[g.below(pool.size())], t, cs);
+        break;
+      }
+      default: {
+        const std::vector<qubit_index> ts = {t, other};
+        p.apply_unitary(two[g.below(two.size())], ts, {});
+      }
+    }
+  }
+  return p;
+}
+
 // A one-thread complex<float> state holding `amps`, computing at `level` in float or double arithmetic.
 qrm::state_vector<std::complex<float>> float_state(std::size_t n, qrm::simd_level level, bool float_arithmetic,
                                                    const std::vector<std::complex<float>>& amps) {
@@ -241,28 +268,7 @@ TEST_CASE_TEMPLATE("norm drift over 10^5 random gates, fused", S, std::complex<f
   // (measured: 4.7e-7 and 3.7e-13).
   qrm::rng g(15);
   const std::size_t n = 8;
-  const bool complex_values = true;
-  std::vector<qrm::gate1> pool;
-  std::vector<qrm::dense_matrix> two;
-  for (int i = 0; i < 16; ++i) pool.push_back(random_gate1_unitary(g, complex_values));
-  for (int i = 0; i < 4; ++i) two.push_back(random_unitary(2, g, complex_values));
-  qrm::program p(n);
-  for (int i = 0; i < 100000; ++i) {
-    const auto t = static_cast<qubit_index>(g.below(n));
-    const auto other = static_cast<qubit_index>((t + 1 + g.below(n - 1)) % n);
-    switch (g.below(3)) {
-      case 0: p.apply_gate1(pool[g.below(pool.size())], t, {}); break;
-      case 1: {
-        const std::vector<control> cs = {{other, g.below(2) == 1}};
-        p.apply_gate1(pool[g.below(pool.size())], t, cs);
-        break;
-      }
-      default: {
-        const std::vector<qubit_index> ts = {t, other};
-        p.apply_unitary(two[g.below(two.size())], ts, {});
-      }
-    }
-  }
+  const qrm::program p = small_gate_program(n, 100000, g);
   qrm::fusion_report rep;
   const qrm::program f = qrm::fuse(p, {3}, &rep);
   qrm::dense_options o;
@@ -353,29 +359,7 @@ TEST_CASE("float arithmetic: norm drift over 10^5 random gates fused stays withi
   // unfused kernels' bound (kernel_cases.hpp).
   qrm::rng g(17);
   const std::size_t n = 8;
-  std::vector<qrm::gate1> pool;
-  std::vector<qrm::dense_matrix> two;
-  for (int i = 0; i < 16; ++i) pool.push_back(random_gate1_unitary(g, true));
-  for (int i = 0; i < 4; ++i) two.push_back(random_unitary(2, g, true));
-  qrm::program p(n);
-  const auto pick = [&] { return static_cast<qubit_index>(g.below(n)); };
-  for (int i = 0; i < 100000; ++i) {
-    const qubit_index t = pick();
-    qubit_index other = pick();
-    while (other == t) other = pick();
-    switch (g.below(3)) {
-      case 0: p.apply_gate1(pool[g.below(pool.size())], t, {}); break;
-      case 1: {
-        const std::vector<control> cs = {{other, g.below(2) == 1}};
-        p.apply_gate1(pool[g.below(pool.size())], t, cs);
-        break;
-      }
-      default: {
-        const std::vector<qubit_index> ts = {t, other};
-        p.apply_unitary(two[g.below(two.size())], ts, {});
-      }
-    }
-  }
+  const qrm::program p = small_gate_program(n, 100000, g);
   qrm::fusion_report rep;
   const qrm::program f = qrm::fuse(p, {3}, &rep);
   qrm::dense_options o;

@@ -177,9 +177,9 @@ class state_vector {
   // Applies ops in order (qrm::run calls this): the state of applying them one by one, to
   // rounding, with runs of ops that fit a chunk of dense_options::chunk_bytes applied chunk by chunk.
   void run_ops(std::span<const op::any> ops) {
-    unsigned m = 0;  // qubits of a chunk
-    while (m < 40 && (std::uint64_t{sizeof(Scalar)} << (m + 1)) <= chunk_bytes_) ++m;
-    if (chunk_bytes_ == 0 || m < 4 || m >= n_) {
+    const std::uint64_t amplitudes = chunk_bytes_ / sizeof(Scalar);
+    const unsigned m = amplitudes ? static_cast<unsigned>(std::bit_width(amplitudes)) - 1 : 0;  // qubits of a chunk
+    if (m < 4 || m >= n_) {
       for (const op::any& o : ops) emit_op(o, *this);
       return;
     }
