@@ -11,8 +11,10 @@
 //   io.hpp          PNG, PFM, SVG, CSV, atomic files, progress
 // Include a single layer (e.g. <qrm/circuit.hpp> and <qrm/backends/dense.hpp>) to pay only for it.
 //
-// Non-template functions in these headers are written `template <int = 0>` so that they are
-// compiled only in the translation units that call them: including a layer stays cheap. Where
+// Non-template functions in these headers, and the member functions of non-template classes,
+// are written `template <int = 0>` so that they are compiled only in the translation units that
+// call them: including a layer stays cheap (one-line and constexpr functions excepted: they call
+// nothing worth deferring). Passed as a predicate, such a function is named `f<>`. Where
 // such a function uses a helper class template, it passes its parameter on (`template <int
 // Deferred = 0>` ... `helper<Deferred>`): a helper named with a fixed argument would be
 // instantiated by the compiler where the header is read, used or not.

@@ -55,6 +55,7 @@ struct dense_options {
 };
 
 namespace detail {
+template <int = 0>
 inline std::string format_bytes(long double bytes) {
   const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
   int u = 0;
@@ -67,6 +68,7 @@ inline std::string format_bytes(long double bytes) {
   return buf;
 }
 
+template <int = 0>
 inline std::uint64_t physical_memory_bytes() {
 #if defined(_SC_PHYS_PAGES) && defined(_SC_PAGE_SIZE)
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);

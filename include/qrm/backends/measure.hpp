@@ -30,6 +30,7 @@ std::vector<double> distribution(const B& state) {
 
 // sample_counts(p, shots, g): multinomial counts for `shots` draws from probabilities p (which
 // must sum to 1 within 1e-9), drawn as a chain of binomials so the cost is O(|p|) not O(shots).
+template <int = 0>
 inline std::vector<std::uint64_t> sample_counts(std::span<const double> p, std::uint64_t shots, rng& g) {
   double total = 0;
   for (double x : p) {

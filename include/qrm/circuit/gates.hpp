@@ -29,6 +29,7 @@ namespace qrm {
 
 namespace detail {
 
+template <int = 0>
 inline double checked_angle(const char* gate, double theta) {
   if (!std::isfinite(theta))
     throw std::invalid_argument(std::string(gate) + ": angle must be finite, got " + std::to_string(theta));
@@ -161,6 +162,7 @@ struct phase : detail::gate1_base<phase<Target, Ctrls...>, false, Target, Ctrls.
 };
 
 namespace detail {
+template <int = 0>
 inline gate1 checked_gate1(const gate1& g, bool need_real) {
   dense_matrix m(2);
   for (int r = 0; r < 2; ++r)
@@ -186,6 +188,7 @@ struct u : detail::gate1_base<u<Target, Ctrls...>, false, Target, Ctrls...> {
 // ---- dense unitaries on k qubits (coins) ----------------------------------------------------
 
 namespace detail {
+template <int = 0>
 inline dense_matrix checked_unitary(dense_matrix m, std::size_t k, bool need_real, const char* what) {
   const std::size_t dim = std::size_t{1} << k;
   if (m.dim != dim || m.data.size() != dim * dim)
@@ -280,6 +283,7 @@ struct add_value : detail::block_gate_base<true, 1, detail::type_list<Reg>, Ctrl
 // ---- multiplexed (uniformly controlled) gates ------------------------------------------------
 
 namespace detail {
+template <int = 0>
 inline void check_select(std::uint64_t select, std::size_t m, const char* what) {
   if (m < 64 && select > max_value_of_width(m))
     throw std::invalid_argument(std::string(what) + ": select value " + std::to_string(select) + " does not fit " +

@@ -63,26 +63,31 @@ namespace gate {
 inline gate1 x() { return {gate1_kind::x, 0.0, {{0.0, 1.0}, {1.0, 0.0}}}; }
 inline gate1 y() { return {gate1_kind::y, 0.0, {{0.0, complex{0, -1}}, {complex{0, 1}, 0.0}}}; }
 inline gate1 z() { return {gate1_kind::z, 0.0, {{1.0, 0.0}, {0.0, -1.0}}}; }
+template <int = 0>
 inline gate1 h() {
   const double r = 1.0 / std::sqrt(2.0);
   return {gate1_kind::h, 0.0, {{r, r}, {r, -r}}};
 }
 // Ry(theta) = [[cos t/2, -sin t/2], [sin t/2, cos t/2]]; Ry(2 asin sqrt v)|0> has P(|1>) = v.
+template <int = 0>
 inline gate1 ry(double theta) {
   const double c = std::cos(theta / 2), s = std::sin(theta / 2);
   return {gate1_kind::ry, theta, {{c, -s}, {s, c}}};
 }
+template <int = 0>
 inline gate1 rz(double theta) {
   return {gate1_kind::rz, theta, {{std::polar(1.0, -theta / 2), 0.0}, {0.0, std::polar(1.0, theta / 2)}}};
 }
 // phase(theta) = diag(1, e^{i theta}).
 inline gate1 phase(double theta) { return {gate1_kind::phase, theta, {{1.0, 0.0}, {0.0, std::polar(1.0, theta)}}}; }
+template <int = 0>
 inline gate1 u(complex m00, complex m01, complex m10, complex m11) {
   return {gate1_kind::u, 0.0, {{m00, m01}, {m10, m11}}};
 }
 }  // namespace gate
 
 // The conjugate transpose of g, keeping its kind (ry(t) -> ry(-t)).
+template <int = 0>
 inline gate1 adjoint(const gate1& g) {
   gate1 r = g;
   r.angle = -g.angle;
@@ -100,11 +105,13 @@ struct dense_matrix {
   explicit dense_matrix(std::size_t d) : dim(d), data(d * d) {}
   complex& operator()(std::size_t r, std::size_t c) { return data[r * dim + c]; }
   const complex& operator()(std::size_t r, std::size_t c) const { return data[r * dim + c]; }
+  template <int = 0>
   bool is_real() const {
     for (const complex& z : data)
       if (z.imag() != 0) return false;
     return true;
   }
+  template <int = 0>
   static dense_matrix identity(std::size_t d) {
     dense_matrix m(d);
     for (std::size_t i = 0; i < d; ++i) m(i, i) = 1.0;
@@ -113,6 +120,7 @@ struct dense_matrix {
   bool operator==(const dense_matrix&) const = default;
 };
 
+template <int = 0>
 inline dense_matrix adjoint(const dense_matrix& m) {
   dense_matrix r(m.dim);
   for (std::size_t i = 0; i < m.dim; ++i)
@@ -133,6 +141,7 @@ inline dense_matrix operator*(const dense_matrix& a, const dense_matrix& b) {
 }
 
 // Largest |(U^dagger U - I)_ij|: how far m is from unitary.
+template <int = 0>
 inline double unitarity_error(const dense_matrix& m) {
   double worst = 0;
   for (std::size_t i = 0; i < m.dim; ++i)

@@ -367,6 +367,7 @@ struct qasm_token {
 
   bool is(char p) const { return kind == punct && text.size() == 1 && text[0] == p; }
   bool is(std::string_view word) const { return kind == identifier && text == word; }
+  template <int = 0>
   std::string describe() const {
     switch (kind) {
       case end: return "end of input";

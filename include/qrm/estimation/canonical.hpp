@@ -50,6 +50,7 @@ struct canonical_options {
 
 namespace detail {
 // Fejer kernel F(d) = (sin(M pi d) / (M sin(pi d)))^2, with its limit 1 where sin(pi d) = 0.
+template <int = 0>
 inline double fejer(double d, double M) {
   const double den = M * std::sin(std::numbers::pi * d);
   if (std::fabs(den) < 1e-300) return 1.0;
@@ -59,6 +60,7 @@ inline double fejer(double d, double M) {
 }  // namespace detail
 
 // The phase-register law P(y), y in [0, 2^m), for a given theta.
+template <int = 0>
 inline std::vector<double> canonical_phase_distribution(double theta, unsigned m) {
   if (m < 1 || m > 20)
     throw std::invalid_argument("canonical_phase_distribution: m must be in [1, 20], got " + std::to_string(m));

@@ -51,6 +51,7 @@ struct chebae_options {
 namespace detail {
 
 // The largest odd d >= min_degree with T_d^2 monotone on [x_lo, x_hi], if any.
+template <int = 0>
 inline std::optional<std::uint64_t> chebae_next_degree(double x_lo, double x_hi, double min_degree) {
   using std::numbers::pi;
   const double t_lo = std::acos(std::clamp(x_hi, 0.0, 1.0)), t_hi = std::acos(std::clamp(x_lo, 0.0, 1.0));
@@ -67,6 +68,7 @@ inline std::optional<std::uint64_t> chebae_next_degree(double x_lo, double x_hi,
 }
 
 // The x on the monotone branch of T_d^2 that holds x_mid with T_d(x)^2 = p.
+template <int = 0>
 inline double chebae_invert(double x_mid, std::uint64_t d, double p) {
   using std::numbers::pi;
   const double dd = static_cast<double>(d);

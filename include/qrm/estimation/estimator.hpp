@@ -38,6 +38,7 @@ constexpr std::string_view estimator_name(estimator_kind k) {
 }
 
 // estimator_from_name("fae"): the kind, or std::invalid_argument listing the names.
+template <int = 0>
 inline estimator_kind estimator_from_name(std::string_view name) {
   for (estimator_kind k : all_estimators)
     if (estimator_name(k) == name) return k;

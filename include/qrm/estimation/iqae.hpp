@@ -46,6 +46,7 @@ struct iqae_options {
 namespace detail {
 // Largest k (K = 4k + 2 >= min_ratio * K_old) such that K [t_lo, t_hi] lies in one half circle;
 // returns the old k and side when there is none.
+template <int = 0>
 inline std::pair<std::uint64_t, bool> iqae_next_power(std::uint64_t k, bool upper, double t_lo, double t_hi,
                                                       double min_ratio) {
   const double old_scaling = 4.0 * static_cast<double>(k) + 2.0;

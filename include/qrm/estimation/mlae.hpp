@@ -54,6 +54,7 @@ struct mlae_options {
 };
 
 // The powers an options object asks for.
+template <int = 0>
 inline std::vector<std::uint64_t> mlae_powers(const mlae_options& opt) {
   if (!opt.powers.empty()) return opt.powers;
   if (opt.m > 40) throw std::invalid_argument("mlae_powers: m must be at most 40, got " + std::to_string(opt.m));
@@ -66,6 +67,7 @@ inline std::vector<std::uint64_t> mlae_powers(const mlae_options& opt) {
 namespace detail {
 // log L(theta) for rounds of (power, shots, hits); terms with zero weight are skipped (0 log 0 = 0)
 // and probabilities are floored at 1e-300 so a contradicted round costs a large finite penalty.
+template <int = 0>
 inline double bernoulli_log_likelihood(const std::vector<round_record>& rounds, double theta) {
   double l = 0;
   for (const round_record& rr : rounds) {
@@ -79,6 +81,7 @@ inline double bernoulli_log_likelihood(const std::vector<round_record>& rounds, 
 }
 // log L(theta, r) of the damped model p_k = (1 - exp(-r K) cos(2 K theta)) / 2, K = 2k + 1.
 // r = 0 is bernoulli_log_likelihood itself.
+template <int = 0>
 inline double damped_log_likelihood(const std::vector<round_record>& rounds, double theta, double r) {
   if (r == 0) return bernoulli_log_likelihood(rounds, theta);
   double l = 0;
@@ -94,6 +97,7 @@ inline double damped_log_likelihood(const std::vector<round_record>& rounds, dou
 
 // The staged search of the header comment for decay r: the maximiser over theta and its value.
 // `sorted` holds the rounds in increasing power.
+template <int = 0>
 inline std::pair<double, double> mlae_staged_search(const std::vector<round_record>& sorted, double r) {
   using std::numbers::pi;
   std::vector<round_record> used;
@@ -119,6 +123,7 @@ inline std::pair<double, double> mlae_staged_search(const std::vector<round_reco
 
 // Standard deviation of theta from the 2x2 Fisher information of (theta, r) in the damped model,
 // or NaN where it is singular.
+template <int = 0>
 inline double damped_theta_sigma(const std::vector<round_record>& rounds, double theta, double r) {
   double itt = 0, itr = 0, irr = 0;
   for (const round_record& rr : rounds) {

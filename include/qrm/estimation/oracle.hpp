@@ -36,6 +36,7 @@ namespace qrm {
 namespace detail {
 // A probability read from a simulation may be off by rounding (-1e-16, 1 + 1e-16); anything
 // further out (or NaN) is a bug upstream and is reported, never clamped silently.
+template <int = 0>
 inline double checked_probability(double p, const char* who) {
   constexpr double slack = 1e-9;
   if (!(p >= -slack && p <= 1.0 + slack))
@@ -45,12 +46,14 @@ inline double checked_probability(double p, const char* who) {
 
 // theta in [0, pi/2] with sin^2 theta = a, computed stably: asin(sqrt a) loses relative accuracy
 // near a = 1 (sqrt near 1 is flat), acos(sqrt(1 - a)) does not.
+template <int = 0>
 inline double amplitude_angle(double a) {
   a = std::clamp(a, 0.0, 1.0);
   return a <= 0.5 ? std::asin(std::sqrt(a)) : std::acos(std::sqrt(1.0 - a));
 }
 
 // sin^2((2k+1) theta).
+template <int = 0>
 inline double amplified_probability(double theta, std::uint64_t k) {
   const double s = std::sin((2.0 * static_cast<double>(k) + 1.0) * theta);
   return std::clamp(s * s, 0.0, 1.0);
@@ -58,6 +61,7 @@ inline double amplified_probability(double theta, std::uint64_t k) {
 
 // Head probability of the quantum coin with amplitude l - a after n coin iterations started from
 // |0...0> (see qcoin.hpp): sin^2(2 n asin|l - a|).
+template <int = 0>
 inline double coin_head_probability(double a, double l, std::uint64_t n) {
   const double phi = std::asin(std::min(1.0, std::fabs(l - a)));
   const double s = std::sin(2.0 * static_cast<double>(n) * phi);
@@ -93,9 +97,11 @@ class analytic_oracle {
     return from_problem<Backend>(e, [](std::size_t n) { return Backend(n); });
   }
 
+  template <int = 0>
   double amplitude() const { return a_; }  // a = P(good) in A|0>
   double theta() const { return theta_; }
   double probability(std::uint64_t k) const { return detail::amplified_probability(theta_, k); }
+  template <int = 0>
   analytic_oracle rescaled(double s) const {
     if (!(s > 0.0 && s <= 1.0))
       throw std::invalid_argument("analytic_oracle::rescaled: scale must be in (0, 1], got " + std::to_string(s));
@@ -104,6 +110,7 @@ class analytic_oracle {
   double coin_probability(double l, std::uint64_t n) const { return detail::coin_head_probability(a_, l, n); }
 
  private:
+  template <int = 0>
   static double validated(double a) {
     if (!(a >= 0.0 && a <= 1.0))
       throw std::invalid_argument("analytic_oracle: amplitude a must be in [0, 1], got " + std::to_string(a));

@@ -59,6 +59,7 @@ struct qcoin_options {
 namespace detail {
 using interval_set = std::vector<std::pair<double, double>>;
 
+template <int = 0>
 inline interval_set normalise(interval_set s) {
   std::sort(s.begin(), s.end());
   interval_set out;
@@ -72,6 +73,7 @@ inline interval_set normalise(interval_set s) {
   return out;
 }
 
+template <int = 0>
 inline interval_set intersect(const interval_set& a, const interval_set& b) {
   interval_set out;
   std::size_t i = 0, j = 0;
@@ -87,6 +89,7 @@ inline interval_set intersect(const interval_set& a, const interval_set& b) {
 }
 
 // {F in [lo_bound, hi_bound] : sin^2(2 n asin|F - l|) in [p_lo, p_hi]} as sorted intervals.
+template <int = 0>
 inline interval_set coin_preimage(double l, std::uint64_t n, double p_lo, double p_hi, double lo_bound,
                                   double hi_bound) {
   using std::numbers::pi;

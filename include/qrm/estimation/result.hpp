@@ -75,6 +75,7 @@ class shot_sampler {
   }
 
   // Hits for probability p (no bookkeeping).
+  template <int = 0>
   double hits(double p, std::uint64_t shots) {
     if (exact_) return p * static_cast<double>(shots);
     double q = p;
@@ -106,6 +107,7 @@ class stopwatch {
 // the angle with (scale * sin theta_max)^2 = 1 (pi/2 for scale 1, asin(1/4) for scale 4). The map
 // is monotone there, and the ends of the domain map to exactly 0 and 1, so a truth of exactly 0 or
 // 1 is not excluded by a rounding of sin.
+template <int = 0>
 inline std::array<double, 2> amplitude_interval(double theta_lo, double theta_hi, double theta_max,
                                                 double scale = 1.0) {
   if (theta_lo > theta_hi) std::swap(theta_lo, theta_hi);
@@ -120,6 +122,7 @@ inline std::array<double, 2> amplitude_interval(double theta_lo, double theta_hi
 
 // Final checks every estimator runs: nothing non-finite escapes, the interval is ordered and in
 // [0, 1], the estimate is projected onto [0, 1].
+template <int = 0>
 inline void finish(estimation_result& r, const stopwatch& sw) {
   auto bad = [](double x) { return !std::isfinite(x); };
   if (bad(r.estimate) || bad(r.raw_estimate) || bad(r.confidence_interval[0]) || bad(r.confidence_interval[1]) ||
@@ -135,10 +138,12 @@ inline void finish(estimation_result& r, const stopwatch& sw) {
   r.seconds = sw.seconds();
 }
 
+template <int = 0>
 inline void check_alpha(double alpha, const char* who) {
   if (!(alpha > 0.0 && alpha < 1.0))
     throw std::invalid_argument(std::string(who) + ": alpha must be in (0, 1), got " + std::to_string(alpha));
 }
+template <int = 0>
 inline void check_shots(std::uint64_t shots, const char* who) {
   if (shots == 0) throw std::invalid_argument(std::string(who) + ": shots must be positive, got 0");
 }
@@ -153,6 +158,7 @@ struct radiance_estimate {
 };
 
 // to_radiance(result, S, emission_scale): the estimate and its interval mapped to radiance.
+template <int = 0>
 inline radiance_estimate to_radiance(const estimation_result& r, double path_terms, double emission_scale = 1.0) {
   if (!(path_terms > 0.0 && std::isfinite(path_terms)))
     throw std::invalid_argument("to_radiance: path_terms S must be positive and finite, got " +

@@ -45,6 +45,7 @@ inline std::string errno_text(int err) { return std::error_code(err, std::generi
 // processes writing into the same directory.
 inline std::atomic<std::uint64_t> temp_file_counter{0};
 
+template <int = 0>
 inline unsigned long process_id() {
 #if QRM_IO_POSIX
   return static_cast<unsigned long>(::getpid());
@@ -55,6 +56,7 @@ inline unsigned long process_id() {
 
 // Best effort: makes the rename itself durable. Some file systems refuse fsync on directories;
 // the content is already safe at that point, so failures are ignored.
+template <int = 0>
 inline void sync_directory(const std::filesystem::path& dir) {
 #if QRM_IO_POSIX
   const std::string d = dir.empty() ? std::string(".") : dir.string();
@@ -78,6 +80,7 @@ inline temp_file_slot temp_file_slots[64];
 
 // Registers `path`; returns the slot, or -1 when the table is full or the path too long (the file
 // is then still removed on every error, only not on a signal).
+template <int = 0>
 inline int register_temp_file(const std::string& path) {
   if (path.size() >= sizeof temp_file_slots[0].path) return -1;
   for (int i = 0; i < 64; ++i) {
@@ -91,11 +94,13 @@ inline int register_temp_file(const std::string& path) {
   return -1;
 }
 
+template <int = 0>
 inline void unregister_temp_file(int slot) {
   if (slot >= 0) temp_file_slots[slot].state.store(0, std::memory_order_release);
 }
 
 // Async-signal-safe: unlink every published temporary file.
+template <int = 0>
 inline void remove_registered_temp_files() {
 #if QRM_IO_POSIX
   for (temp_file_slot& s : temp_file_slots)
@@ -121,6 +126,7 @@ class signals_blocked {
   sigset_t old_;
 };
 
+template <int = 0>
 inline void remove_temp_files_and_exit(int sig) {
   remove_registered_temp_files();
   ::_exit(128 + sig);
@@ -136,6 +142,7 @@ namespace qrm::io {
 // remove_temporary_files_on_signals(): SIGINT, SIGTERM and SIGHUP remove the temporary files of
 // writes in flight and exit with 128 + the signal (see the header comment). POSIX only; a no-op
 // elsewhere.
+template <int = 0>
 inline void remove_temporary_files_on_signals() {
 #if QRM_IO_POSIX
   struct sigaction sa {};
@@ -154,6 +161,7 @@ class file_sink {
   file_sink& operator=(const file_sink&) = delete;
 
   // write(data, n): appends n bytes.
+  template <int = 0>
   void write(const void* data, std::size_t n) {
     if (n == 0) return;
     errno = 0;
@@ -181,6 +189,7 @@ class file_sink {
 // ensure_directory(dir): creates `dir` and its parents if missing; throws std::runtime_error
 // naming the directory and the reason (e.g. a component is a file). Commands call it before
 // they compute anything, so a bad output path fails at once rather than after the work.
+template <int = 0>
 inline void ensure_directory(const std::filesystem::path& dir, const std::string& purpose = {}) {
   if (dir.empty()) return;
   std::error_code ec;
@@ -192,6 +201,7 @@ inline void ensure_directory(const std::filesystem::path& dir, const std::string
 }
 
 // ensure_parent_directory(target): ensure_directory of the directory that will hold `target`.
+template <int = 0>
 inline void ensure_parent_directory(const std::filesystem::path& target) {
   ensure_directory(target.parent_path(), " for '" + target.string() + "'");
 }
@@ -270,6 +280,7 @@ void write_file_atomically(const std::filesystem::path& target, Writer&& writer)
 }
 
 // write_file_atomically(target, contents): the same, for content already in memory.
+template <int = 0>
 inline void write_file_atomically(const std::filesystem::path& target, std::string_view contents) {
   write_file_atomically(target, [contents](file_sink& out) { out.write(contents); });
 }

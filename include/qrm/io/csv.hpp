@@ -60,6 +60,7 @@ class cell {
   // text(): the cell as text, real numbers exactly (csv_number).
   std::string text() const { return kind_ == kind::real ? csv_number(real_) : text_; }
   // text(significant_digits): real numbers rounded to that many significant digits.
+  template <int = 0>
   std::string text(int significant_digits) const {
     if (kind_ != kind::real) return text_;
     char buf[64];
@@ -76,10 +77,12 @@ class cell {
 // table: a header and rows of cells, every row as long as the header.
 class table {
  public:
+  template <int = 0>
   explicit table(std::vector<std::string> header) : header_(std::move(header)) {
     if (header_.empty()) throw std::invalid_argument("table: the header has no columns");
   }
   // add_row(cells): appends a row; std::invalid_argument if its length differs from the header's.
+  template <int = 0>
   table& add_row(std::vector<cell> cells) {
     if (cells.size() != header_.size())
       throw std::invalid_argument("table::add_row: row " + std::to_string(rows_.size()) + " has " +

@@ -78,6 +78,7 @@ class image {
   friend bool operator==(const image&, const image&) = default;
 
  private:
+  template <int = 0>
   std::size_t index(std::size_t x, std::size_t y) const {
     if (x >= width_ || y >= height_)
       throw std::out_of_range("image::at: pixel (" + std::to_string(x) + ", " + std::to_string(y) +

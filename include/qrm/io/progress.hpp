@@ -56,6 +56,7 @@ struct progress_options {
 namespace qrm::detail {
 
 // "12.3s", "2m05s", "1h02m".
+template <int = 0>
 inline std::string duration_text(double seconds) {
   char buf[32];
   if (!(seconds >= 0) || seconds > 1e9) return "--";
@@ -71,6 +72,7 @@ inline std::string duration_text(double seconds) {
   return buf;
 }
 
+template <int = 0>
 inline bool is_terminal(std::FILE* f) {
 #if defined(__unix__) || defined(__APPLE__)
   return f != nullptr && ::isatty(::fileno(f)) == 1;
@@ -111,6 +113,7 @@ class progress {
   }
 
   // advance(n): n more units done; safe from any thread; redraws when the interval has passed.
+  template <int = 0>
   void advance(std::uint64_t n = 1) {
     const std::uint64_t done = done_.fetch_add(n, std::memory_order_relaxed) + n;
     if (style_ == progress_style::off || finished_.load(std::memory_order_relaxed)) return;
@@ -126,6 +129,7 @@ class progress {
   // done(): units counted so far.
   std::uint64_t done() const { return done_.load(); }
   // redraws(): how many times the bar or a plain line has been drawn (for tests).
+  template <int = 0>
   std::uint64_t redraws() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return redraws_;
@@ -133,12 +137,14 @@ class progress {
 
   // message(line): prints `line` and a newline without garbling the bar (always printed, even
   // when quiet: it is the caller's own output).
+  template <int = 0>
   void message(std::string_view line) {
     std::lock_guard<std::mutex> lock(mutex_);
     print_line(line);
   }
 
   // finish(): draws the final state and ends the line (terminal style); later calls do nothing.
+  template <int = 0>
   void finish() {
     std::lock_guard<std::mutex> lock(mutex_);
     if (finished_.exchange(true)) return;
@@ -148,11 +154,13 @@ class progress {
  private:
   using clock = std::chrono::steady_clock;
 
+  template <int = 0>
   std::int64_t elapsed_ns() const {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(clock::now() - start_).count();
   }
 
   // The one-time prediction of the total time (see progress_options::warn_longer_than).
+  template <int = 0>
   void predict(std::int64_t now, std::uint64_t done) {
     const auto warn = std::chrono::duration_cast<std::chrono::nanoseconds>(options_.warn_longer_than).count();
     const auto calibration = std::chrono::duration_cast<std::chrono::nanoseconds>(options_.calibration).count();
@@ -168,6 +176,7 @@ class progress {
   }
 
   // Called with mutex_ held.
+  template <int = 0>
   void print_line(std::string_view line) {
     std::FILE* out = options_.out != nullptr ? options_.out : stderr;
     if (style_ == progress_style::terminal && shown_chars_ > 0 && !finished_.load()) {
@@ -182,6 +191,7 @@ class progress {
   }
 
   // Called with mutex_ held.
+  template <int = 0>
   void draw(bool final) {
     const std::uint64_t done = done_.load();
     const double fraction = total_ == 0 ? 1.0 : static_cast<double>(done) / static_cast<double>(total_);

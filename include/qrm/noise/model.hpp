@@ -41,6 +41,7 @@ struct noise_model {
 
   bool has_relaxation() const { return std::isfinite(t1) || std::isfinite(t2); }
   // The ideal machine: every error probability 0 and no relaxation.
+  template <int = 0>
   bool is_ideal() const {
     return depolarizing_1q == 0 && depolarizing_2q == 0 && readout == 0 && !has_relaxation();
   }

@@ -59,12 +59,14 @@ class camera {
   // ray(px, py): through the centre of pixel (px, py).
   camera_ray ray(unsigned px, unsigned py) const { return film_ray(px, py, 0.5, 0.5); }
   // ray(px, py, g): through a uniformly random point of pixel (px, py) (supersampling).
+  template <int = 0>
   camera_ray ray(unsigned px, unsigned py, rng& g) const {
     const double fx = g.uniform();
     const double fy = g.uniform();
     return film_ray(px, py, fx, fy);
   }
   // film_ray(px, py, fx, fy): through the point (fx, fy) in [0, 1)^2 of pixel (px, py).
+  template <int = 0>
   camera_ray film_ray(unsigned px, unsigned py, double fx, double fy) const {
     if (px >= width_ || py >= height_)
       throw std::out_of_range("camera: pixel (" + std::to_string(px) + ", " + std::to_string(py) + ") is outside the " +

@@ -60,6 +60,7 @@ class transition_table {
     std::uint32_t direction;
     double probability;
   };
+  template <int = 0>
   explicit transition_table(const walk_model& m) : model_(&m), d_(m.direction_count()) {
     const std::size_t coins = m.coins().size();
     offset_.assign((coins + 1) * d_ + 1, 0);
@@ -77,6 +78,7 @@ class transition_table {
       }
     }
   }
+  template <int = 0>
   std::span<const transition> out(std::size_t voxel, std::uint32_t d) const {
     const std::size_t slot = static_cast<std::size_t>(model_->coin_of(voxel) + 1) * d_ + d;
     return {list_.data() + offset_[slot], offset_[slot + 1] - offset_[slot]};
@@ -272,6 +274,7 @@ class radiance_table {
 
   // E[f] of the walk from voxel v's centre in direction d; v must be a table state (every
   // non-air voxel is).
+  template <int = 0>
   const rgb3& value(std::size_t voxel_index, std::uint32_t d) const {
     const std::size_t k = slot_[voxel_index];
     if (k == ~std::size_t{0}) throw std::out_of_range("radiance_table: voxel " + std::to_string(voxel_index) + " is not a table state");
@@ -280,6 +283,7 @@ class radiance_table {
   std::size_t states() const { return value_.size(); }
 
  private:
+  template <int = 0>
   void add_voxel(std::size_t v) {
     slot_[v] = voxels_.size();
     voxels_.push_back(v);
@@ -378,6 +382,7 @@ struct path_set {
 
   std::size_t size() const { return probability.size(); }
   // sum over paths of probability * f: the exact E[f] (equals qrm::path_sum up to rounding).
+  template <int = 0>
   rgb3 exact_mean() const {
     rgb3 s{0, 0, 0};
     for (std::size_t k = 0; k < size(); ++k)
@@ -385,6 +390,7 @@ struct path_set {
     return s;
   }
   // sample_path_indices(K, g): K paths drawn by probability, with replacement.
+  template <int = 0>
   std::vector<std::size_t> sample_path_indices(std::size_t count, rng& g) const {
     if (cumulative.empty()) throw std::logic_error("path_set: no paths to sample");
     std::vector<std::size_t> out(count);
@@ -397,6 +403,7 @@ struct path_set {
     return out;
   }
   // sample_paths(K, g): the contributions f of K paths drawn by probability, with replacement.
+  template <int = 0>
   std::vector<rgb3> sample_paths(std::size_t count, rng& g) const {
     std::vector<rgb3> out;
     out.reserve(count);

@@ -25,6 +25,7 @@ struct pixel_range {
 };
 
 // tile_pixels(pixels, t): pixels [pixels * index / count, pixels * (index + 1) / count).
+template <int = 0>
 inline pixel_range tile_pixels(std::size_t pixels, tile t) {
   if (t.count == 0 || t.index >= t.count)
     throw std::invalid_argument("tile: index " + std::to_string(t.index) + " is not below count " +
@@ -34,6 +35,7 @@ inline pixel_range tile_pixels(std::size_t pixels, tile t) {
 
 // merge_tiles(parts): parts[i] rendered as tile {i, parts.size()}; each contributes exactly its
 // own pixels, so the result equals the image rendered in one piece, bit for bit.
+template <int = 0>
 inline image merge_tiles(const std::vector<image>& parts) {
   if (parts.empty()) throw std::invalid_argument("merge_tiles: no parts");
   image out(parts[0].width(), parts[0].height());

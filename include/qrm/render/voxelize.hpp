@@ -141,6 +141,7 @@ namespace qrm::render {
 class voxelizer {
  public:
   // voxelizer(size): an empty size^3 grid (size a power of two >= 4).
+  template <int = 0>
   explicit voxelizer(unsigned size) : size_(size) {
     if (size < 4 || (size & (size - 1)) != 0 || size > 1024)
       throw std::invalid_argument("voxelizer: size must be a power of two in [4, 1024], got " + std::to_string(size));
@@ -148,6 +149,7 @@ class voxelizer {
   unsigned size() const { return size_; }
 
   // add_rectangle(r, m): a one-sided rectangle, a group of its own. Returns the group id.
+  template <int = 0>
   int add_rectangle(const rectangle& r, const surface_material& m) {
     check_rectangle(r);
     element e;
@@ -161,6 +163,7 @@ class voxelizer {
   // add_box(b, faces, mask, inward): the faces of box b selected by `mask` (box_face_bit), face
   // f with material faces[f]; normals point out of the box, or into it when `inward` (a room
   // seen from inside). One group. Returns the group id.
+  template <int = 0>
   int add_box(const oriented_box& b, const std::array<surface_material, 6>& faces, unsigned mask = all_box_faces,
               bool inward = false) {
     for (int a = 0; a < 3; ++a) {
@@ -196,11 +199,13 @@ class voxelizer {
     }
     return group;
   }
+  template <int = 0>
   int add_box(const oriented_box& b, const surface_material& m, unsigned mask = all_box_faces, bool inward = false) {
     return add_box(b, {m, m, m, m, m, m}, mask, inward);
   }
 
   // add_sphere(s, m): a sphere (normals point outward), a group of its own.
+  template <int = 0>
   int add_sphere(const sphere& s, const surface_material& m) {
     if (!qrm::detail::vec_finite(s.centre) || !(s.radius > 0) || !std::isfinite(s.radius))
       throw std::invalid_argument("voxelizer: sphere radius " + std::to_string(s.radius) +
@@ -216,6 +221,7 @@ class voxelizer {
 
   // build(name, absorbing_shell): the scene. With the shell (see the file comment), no surface
   // may reach the outermost voxel layer.
+  template <int = 0>
   scene build(const std::string& name, bool absorbing_shell = true) const {
     const unsigned n = size_;
     scene sc(name, 3, n);
@@ -285,9 +291,11 @@ class voxelizer {
     int group = 0;
   };
 
+  template <int = 0>
   static vec3 centre_of(const std::array<unsigned, 3>& v) {
     return {static_cast<double>(v[0]) + 0.5, static_cast<double>(v[1]) + 0.5, static_cast<double>(v[2]) + 0.5};
   }
+  template <int = 0>
   static void check_rectangle(const rectangle& r) {
     qrm::detail::check_unit_vector(r.u, "a rectangle's u axis");
     qrm::detail::check_unit_vector(r.v, "a rectangle's v axis");
@@ -299,11 +307,13 @@ class voxelizer {
       throw std::invalid_argument("voxelizer: rectangle half extents " + std::to_string(r.half_u) + ", " +
                                   std::to_string(r.half_v) + " must be positive and finite, and its centre finite");
   }
+  template <int = 0>
   static double distance(const element& e, const vec3& p) {
     if (e.is_sphere) return std::abs(norm(qrm::detail::vec_sub(p, e.ball.centre)) - e.ball.radius);
     return qrm::detail::rectangle_distance(e.rect, p);
   }
   // The outward normal of the element's surface seen from point p.
+  template <int = 0>
   static vec3 normal_at(const element& e, const vec3& p) {
     if (!e.is_sphere) return e.rect.normal;
     const vec3 r = qrm::detail::vec_sub(p, e.ball.centre);

@@ -39,6 +39,7 @@ struct estimate_cost {
 };
 
 // runs_rescaled(settings): whether the estimator runs A with FAE's rescaling ancilla (fae.hpp).
+template <int = 0>
 inline bool runs_rescaled(const estimator_settings& settings) {
   return settings.kind == estimator_kind::fae && settings.fae.rescale;
 }

@@ -18,11 +18,13 @@ class rng {
   using result_type = std::uint64_t;
   explicit rng(std::uint64_t seed = 0x5eed) { reseed(seed); }
 
+  template <int = 0>
   static rng stream(std::uint64_t seed, std::uint64_t index) {
     std::uint64_t x = seed ^ (0x9e3779b97f4a7c15ull * (index + 1));
     return rng(splitmix(x) ^ splitmix(x));
   }
 
+  template <int = 0>
   void reseed(std::uint64_t seed) {
     std::uint64_t x = seed;
     for (auto& w : s_) w = splitmix(x);
@@ -44,6 +46,7 @@ class rng {
   // Uniform in [0, 1) with 53 random bits.
   double uniform() { return static_cast<double>((*this)() >> 11) * 0x1.0p-53; }
   // Uniform integer in [0, n) (n > 0), without modulo bias.
+  template <int = 0>
   std::uint64_t below(std::uint64_t n) {
     if (n == 0) throw std::invalid_argument("rng::below: n must be positive");
     const std::uint64_t limit = max() - max() % n;
@@ -55,6 +58,7 @@ class rng {
 
  private:
   static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+  template <int = 0>
   static std::uint64_t splitmix(std::uint64_t& x) {
     std::uint64_t z = (x += 0x9e3779b97f4a7c15ull);
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
@@ -67,6 +71,7 @@ class rng {
 namespace detail {
 // log(k!) without std::lgamma (which writes a global in glibc): exact sums below 256, Stirling's
 // series (error < 1e-15 relative) above.
+template <int = 0>
 inline double log_factorial(std::uint64_t k) {
   static const std::array<double, 256> table = [] {
     std::array<double, 256> t{};
@@ -83,6 +88,7 @@ inline double log_factorial(std::uint64_t k) {
 
 // binomial(n, p, g): number of successes in n Bernoulli(p) trials (exact sampling: inversion for
 // small n*p, Hormann's BTRS transformed rejection otherwise).
+template <int = 0>
 inline std::uint64_t binomial(std::uint64_t n, double p, rng& g) {
   if (!(p >= 0.0 && p <= 1.0))
     throw std::invalid_argument("binomial: probability must be in [0, 1], got " + std::to_string(p));

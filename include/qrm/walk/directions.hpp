@@ -33,6 +33,7 @@ struct direction_set {
 };
 
 // king_2d(): the paper's 8 directions (3 qubits).
+template <int = 0>
 inline direction_set king_2d() {
   direction_set s;
   s.name = "king-8";
@@ -46,6 +47,7 @@ inline direction_set king_2d() {
 }
 
 namespace detail {
+template <int = 0>
 inline void add_displacements(direction_set& s) {
   const double unit = std::ldexp(1.0, static_cast<int>(s.fractional_bits));
   s.displacement.clear();
@@ -61,6 +63,7 @@ inline void add_displacements(direction_set& s) {
 }  // namespace detail
 
 // golden_spiral(D, F): D directions on the golden spiral (z from 1 - 1/D down to -1 + 1/D).
+template <int = 0>
 inline direction_set golden_spiral(std::size_t count, unsigned fractional_bits = 3) {
   if (count < 2 || count > 1024)
     throw std::invalid_argument("golden_spiral: direction count must be in [2, 1024], got " + std::to_string(count));
@@ -81,6 +84,7 @@ inline direction_set golden_spiral(std::size_t count, unsigned fractional_bits =
 
 // antipodal_spiral(D, F): D/2 golden-spiral directions of the upper hemisphere and their
 // opposites (D even), so every direction can be reversed exactly.
+template <int = 0>
 inline direction_set antipodal_spiral(std::size_t count, unsigned fractional_bits = 3) {
   if (count < 2 || count % 2 != 0 || count > 1024)
     throw std::invalid_argument("antipodal_spiral: direction count must be even and in [2, 1024], got " +
@@ -96,6 +100,7 @@ inline direction_set antipodal_spiral(std::size_t count, unsigned fractional_bit
 }
 
 // cube_directions(D, F): D = 6 (axes), 14 (axes and cube diagonals) or 26 (all king moves).
+template <int = 0>
 inline direction_set cube_directions(std::size_t count, unsigned fractional_bits = 3) {
   if (count != 6 && count != 14 && count != 26)
     throw std::invalid_argument("cube_directions: count must be 6, 14 or 26, got " + std::to_string(count));
@@ -116,6 +121,7 @@ inline direction_set cube_directions(std::size_t count, unsigned fractional_bits
 
 // sphere_directions(D, F): the symmetric cube sets for D in {6, 14, 26}, else the golden spiral
 // (the authors' choice; they used D = 15).
+template <int = 0>
 inline direction_set sphere_directions(std::size_t count, unsigned fractional_bits = 3) {
   if (count == 6 || count == 14 || count == 26) return cube_directions(count, fractional_bits);
   return golden_spiral(count, fractional_bits);

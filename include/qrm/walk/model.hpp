@@ -114,6 +114,7 @@ class walk_model {
   const std::vector<dense_matrix>& coins() const { return coins_; }
   const std::vector<material>& coin_kinds() const { return coin_kinds_; }
   int coin_of(std::size_t voxel_index) const { return coin_of_voxel_[voxel_index]; }
+  template <int = 0>
   bool coins_are_real() const {
     for (const auto& c : coins_)
       if (!c.is_real()) return false;
@@ -121,12 +122,14 @@ class walk_model {
   }
 
   // The voxel index of a fixed-point position.
+  template <int = 0>
   std::size_t voxel_of(const std::array<std::uint64_t, 3>& pos) const {
     const unsigned f = fractional_bits();
     return scene_->index(static_cast<unsigned>(pos[0] >> f), static_cast<unsigned>(pos[1] >> f),
                          dims() == 3 ? static_cast<unsigned>(pos[2] >> f) : 0u);
   }
   // The fixed-point centre of a voxel.
+  template <int = 0>
   std::array<std::uint64_t, 3> centre_of(const std::array<unsigned, 3>& v) const {
     const unsigned f = fractional_bits();
     const std::uint64_t half = f == 0 ? 0 : std::uint64_t{1} << (f - 1);
@@ -135,6 +138,7 @@ class walk_model {
     return p;
   }
   // Move by direction d's displacement, wrapping modulo 2^(P+F) on each axis.
+  template <int = 0>
   std::array<std::uint64_t, 3> shifted(const std::array<std::uint64_t, 3>& pos, std::uint32_t d) const {
     const std::uint64_t wrap = (std::uint64_t{1} << axis_bits()) - 1;
     std::array<std::uint64_t, 3> p = pos;
@@ -148,6 +152,7 @@ class walk_model {
     std::array<std::uint64_t, 3> pos;
     std::uint64_t distance;
   };
+  template <int = 0>
   move moved_by(const std::array<std::uint64_t, 3>& pos, std::uint32_t d) const {
     std::array<std::uint64_t, 3> p = shifted(pos, d);
     if (march_ == march_mode::voxel) return {p, 1};
@@ -155,11 +160,13 @@ class walk_model {
     for (; k < march_limit_ && (*scene_)[voxel_of(p)].kind == material::air; ++k) p = shifted(p, d);
     return {centre_of(scene_->coords(voxel_of(p))), k};
   }
+  template <int = 0>
   std::array<std::uint64_t, 3> moved(const std::array<std::uint64_t, 3>& pos, std::uint32_t d) const {
     return moved_by(pos, d).pos;
   }
 
   // Where the coin at `voxel_index` sends direction d: (new direction, amplitude) pairs.
+  template <int = 0>
   std::vector<std::pair<std::uint32_t, complex>> scatter(std::size_t voxel_index, std::uint32_t d) const {
     const int c = coin_of_voxel_[voxel_index];
     if (c < 0) return {{d, complex(1.0)}};
@@ -173,6 +180,7 @@ class walk_model {
   // The start of a light-map sample at a voxel's centre: in air or a medium (no normal), every
   // direction; on a surface, the direction that points into it (2D: (normal + 4) mod 8, as the
   // paper).
+  template <int = 0>
   walk_start light_map_start(const std::array<unsigned, 3>& v) const {
     walk_start s;
     s.voxel = v;
@@ -186,6 +194,7 @@ class walk_model {
     return s;
   }
   // The direction of the set closest to unit vector v.
+  template <int = 0>
   std::uint32_t nearest_direction(const vec3& v) const {
     std::uint32_t best = 0;
     double best_dot = -2;
@@ -200,6 +209,7 @@ class walk_model {
   }
 
   // Initial states and their amplitudes.
+  template <int = 0>
   std::vector<std::pair<walk_state, complex>> initial_states(const walk_start& s) const {
     if (s.direction >= static_cast<int>(dirs_.size()))
       throw std::invalid_argument("walk start direction " + std::to_string(s.direction) + " is not one of the " +
@@ -221,6 +231,7 @@ class walk_model {
   }
 
   double emission(std::size_t voxel_index, int channel) const { return (*scene_)[voxel_index].emission[channel]; }
+  template <int = 0>
   double reflectance(std::size_t voxel_index, int channel) const {
     return (*scene_)[voxel_index].reflectance[channel];
   }
@@ -244,6 +255,7 @@ class walk_model {
 
   // A 2D voxel's normal is its index (scenes built in code may leave the vector unset): the
   // king direction of that index.
+  template <int = 0>
   vec3 mirror_normal(const voxel& v) const {
     return dims() == 2 ? dirs_.vectors[static_cast<std::size_t>(v.normal_index)] : v.normal;
   }

@@ -24,6 +24,7 @@ inline constexpr const char* paper_palette =
 }
 
 // paper_8x8(): the 8x8 scene of the paper's Fig. 4.
+template <int = 0>
 inline scene paper_8x8() {
   return parse_scene(std::string("qrm-scene 1\nname paper_8x8\ndims 2\nsize 8\nmarch voxel\n") + detail::paper_palette +
                          "kinds\n"
@@ -57,6 +58,7 @@ inline scene paper_8x8() {
 }
 
 // paper_4x4(): the paper's small 4x4 scene.
+template <int = 0>
 inline scene paper_4x4() {
   return parse_scene(std::string("qrm-scene 1\nname paper_4x4\ndims 2\nsize 4\nmarch voxel\n") + detail::paper_palette +
                          "kinds\n"
@@ -80,6 +82,7 @@ inline scene paper_4x4() {
 // box_2d(N): the 8x8 scene's layout at any size N = 2^P >= 4, for scaling studies: boundary
 // corners, Lambertian walls facing inward (grey, red right wall, green top wall), two lights on
 // the top wall and one on the left wall, and a Lambertian block in the middle.
+template <int = 0>
 inline scene box_2d(unsigned n) {
   if (n < 4) throw std::invalid_argument("box_2d: size must be at least 4, got " + std::to_string(n));
   scene s("box_" + std::to_string(n), 2, n);
@@ -114,6 +117,7 @@ inline scene box_2d(unsigned n) {
 }
 
 // builtin_scene(name): paper_4x4 or paper_8x8 (the 3D scenes live with the renderer).
+template <int = 0>
 inline scene builtin_2d_scene(const std::string& name) {
   if (name == "paper_8x8") return paper_8x8();
   if (name == "paper_4x4") return paper_4x4();

@@ -53,6 +53,7 @@ using vec3 = std::array<double, 3>;
 inline double dot(const vec3& a, const vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 inline double norm(const vec3& a) { return std::sqrt(dot(a, a)); }
 // The unit vector along a: any finite nonzero a, however large or small its components.
+template <int = 0>
 inline vec3 normalized(const vec3& a) {
   const double l = norm(a);
   // Squares of components between 1e-150 and 1e150 neither overflow nor underflow.
@@ -128,9 +129,11 @@ class scene {
   // lambertian_coin(): the 2D Lambertian coin its file asked for ('lambertian paper|symmetric').
   lambertian_2d lambertian_coin() const { return lambertian_; }
   void set_lambertian_coin(lambertian_2d l) { lambertian_ = l; }
+  template <int = 0>
   unsigned position_bits() const { return bits_; }  // P, with N = 2^P
   std::size_t voxel_count() const { return voxels_.size(); }
 
+  template <int = 0>
   std::size_t index(unsigned x, unsigned y, unsigned z = 0) const {
     if (x >= size_ || y >= size_ || z >= (dims_ == 3 ? size_ : 1u))
       throw std::out_of_range("scene '" + name_ + "': voxel (" + std::to_string(x) + ", " + std::to_string(y) +
@@ -138,6 +141,7 @@ class scene {
                               std::to_string(size_) + "^" + std::to_string(dims_) + " grid");
     return x + static_cast<std::size_t>(size_) * (y + static_cast<std::size_t>(size_) * z);
   }
+  template <int = 0>
   std::array<unsigned, 3> coords(std::size_t i) const {
     return {static_cast<unsigned>(i % size_), static_cast<unsigned>((i / size_) % size_),
             static_cast<unsigned>(i / (static_cast<std::size_t>(size_) * size_))};
@@ -148,6 +152,7 @@ class scene {
   const voxel& operator[](std::size_t i) const { return voxels_[i]; }
   const std::vector<voxel>& voxels() const { return voxels_; }
 
+  template <int = 0>
   bool has(material m) const {
     for (const voxel& v : voxels_)
       if (v.kind == m) return true;
@@ -155,6 +160,7 @@ class scene {
   }
   // Channels c1 and c2 carry the same reflectance and emission everywhere (so one circuit
   // serves both).
+  template <int = 0>
   bool same_channels(int c1, int c2) const {
     for (const voxel& v : voxels_)
       if (v.reflectance[c1] != v.reflectance[c2] || v.emission[c1] != v.emission[c2]) return false;
@@ -162,6 +168,7 @@ class scene {
   }
   // For each channel, the first channel with the same data (grey scenes: {0, 0, 0}), so results
   // are computed once per distinct channel.
+  template <int = 0>
   std::array<int, 3> channel_sources() const {
     std::array<int, 3> source{0, 1, 2};
     for (int c = 1; c < 3; ++c)
@@ -173,6 +180,7 @@ class scene {
     return source;
   }
   // The factor emission is divided by before amplitude encoding: max(1, largest emission).
+  template <int = 0>
   double emission_scale(int channel) const {
     double m = 1.0;
     for (const voxel& v : voxels_) m = std::max(m, v.emission[channel]);
@@ -180,6 +188,7 @@ class scene {
   }
 
   // Throws, naming the voxel and the value, if any voxel is out of range.
+  template <int = 0>
   void validate() const {
     for (std::size_t i = 0; i < voxels_.size(); ++i) {
       const voxel& v = voxels_[i];

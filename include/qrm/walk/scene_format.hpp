@@ -65,15 +65,18 @@ struct scene_parse_error : std::invalid_argument {
 namespace detail {
 
 // A scene's name becomes part of output file names, so it is one plain file-name word.
+template <int = 0>
 inline bool scene_name_char(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
 }
+template <int = 0>
 inline bool valid_scene_name(const std::string& name) {
-  return !name.empty() && std::all_of(name.begin(), name.end(), scene_name_char);
+  return !name.empty() && std::all_of(name.begin(), name.end(), scene_name_char<>);
 }
 
 // The name of a scene file without a `name` line: its file name without directory and
 // extension, other characters replaced by '_' ("my room.txt" -> "my_room").
+template <int = 0>
 inline std::string name_from_source(const std::string& source) {
   const auto slash = source.find_last_of("/\\");
   std::string stem = slash == std::string::npos ? source : source.substr(slash + 1);
@@ -97,6 +100,7 @@ class scene_parser {
     }
   }
 
+  template <int = 0>
   scene parse() {
     next_content_line();
     if (at_end()) fail("empty scene file (expected 'qrm-scene 1')");
@@ -178,6 +182,7 @@ class scene_parser {
  private:
   bool at_end() const { return row_ >= lines_.size(); }
   std::size_t last_line() const { return lines_.empty() ? 0 : lines_.size() - 1; }
+  template <int = 0>
   void next_content_line() {
     while (row_ < lines_.size() && lines_[row_].empty()) ++row_;
   }
@@ -185,12 +190,15 @@ class scene_parser {
   [[noreturn]] void fail_at(std::size_t row, const std::string& msg) const {
     throw scene_parse_error(source_ + ":" + std::to_string(row + 1) + ": " + msg);
   }
+  template <int = 0>
   void need_scene(bool have, const std::string& key) const {
     if (!have) fail("'" + key + "' before 'size' (declare dims and size first)");
   }
+  template <int = 0>
   void expect_count(const std::vector<std::string>& t, std::size_t n, const std::string& form) const {
     if (t.size() != n) fail("expected '" + form + "'");
   }
+  template <int = 0>
   long long integer(const std::string& s, const std::string& what) const {
     char* end = nullptr;
     errno = 0;
@@ -198,6 +206,7 @@ class scene_parser {
     if (errno != 0 || end == s.c_str() || *end != '\0') fail(what + ": '" + s + "' is not an integer");
     return v;
   }
+  template <int = 0>
   double number(const std::string& s, const std::string& what) const {
     char* end = nullptr;
     errno = 0;
@@ -208,21 +217,25 @@ class scene_parser {
     if (!std::isfinite(v)) fail(what + ": " + s + " is not finite");
     return v;
   }
+  template <int = 0>
   rgb color_named(const std::string& n) const {
     auto it = colors_.find(n);
     if (it == colors_.end()) fail("unknown colour '" + n + "' (declare it with 'color " + n + " R G B')");
     return it->second;
   }
+  template <int = 0>
   void check_reflectance(const rgb& c) const {
     for (int ch = 0; ch < 3; ++ch)
       if (!(c[ch] >= 0.0 && c[ch] <= 1.0))
         fail("reflectance " + std::to_string(c[ch]) + " outside [0, 1] in channel " + "RGB"[ch]);
   }
+  template <int = 0>
   void check_emission(const rgb& c) const {
     for (int ch = 0; ch < 3; ++ch)
       if (!(c[ch] >= 0.0)) fail("emission " + std::to_string(c[ch]) + " is negative in channel " + "RGB"[ch]);
   }
   // KIND [NORMAL]: sets kind and normal; returns the next token index.
+  template <int = 0>
   std::size_t read_kind(const std::vector<std::string>& t, std::size_t i, unsigned dims, voxel& v) const {
     if (i >= t.size()) fail("missing voxel kind (air, L, B, S, G or M)");
     const std::string& k = t[i++];
@@ -251,6 +264,7 @@ class scene_parser {
     }
     return i;
   }
+  template <int = 0>
   void set_normal_2d(voxel& v, long long n) const {
     if (n < 0 || n > 7) fail("normal index must be 0..7, got " + std::to_string(n));
     static const int dxy[8][2] = {{0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}};
@@ -258,6 +272,7 @@ class scene_parser {
     v.normal = normalized({double(dxy[n][0]), double(dxy[n][1]), 0.0});
   }
   // camera position X Y Z look_at X Y Z [up X Y Z] [fov DEGREES]
+  template <int = 0>
   scene_view read_camera(const std::vector<std::string>& t) const {
     const char* form = "camera position X Y Z look_at X Y Z [up X Y Z] [fov DEGREES]";
     scene_view v;
@@ -294,6 +309,7 @@ class scene_parser {
     if (!(norm(r) > 1e-9 * norm(f) * norm(v.up))) fail("camera: up is zero or parallel to the view direction");
     return v;
   }
+  template <int = 0>
   rgb read_color(const std::vector<std::string>& t, std::size_t& i, const std::string& what) const {
     if (i >= t.size()) fail("missing colour after '" + what + "'");
     if (colors_.count(t[i])) return colors_.at(t[i++]);
@@ -302,6 +318,7 @@ class scene_parser {
     i += 3;
     return c;
   }
+  template <int = 0>
   void read_voxels(scene& s, const std::vector<std::string>& t, bool box) {
     const unsigned d = s.dims();
     const std::size_t ncoord = box ? 2 * d : d;
@@ -362,6 +379,7 @@ class scene_parser {
         for (long long x = lo[0]; x <= hi[0]; ++x)
           s.at(static_cast<unsigned>(x), static_cast<unsigned>(y), static_cast<unsigned>(z)) = v;
   }
+  template <int = 0>
   void read_grid(scene& s, const std::string& key) {
     const unsigned n = s.size();
     const std::size_t header = row_;

@@ -19,6 +19,7 @@ constexpr std::uint64_t insert_zero(std::uint64_t k, unsigned p) {
 }
 
 // Spread the low bits of v onto the given positions (bit i of v -> bit positions[i]).
+template <int = 0>
 inline std::uint64_t deposit(std::uint64_t v, std::span<const qubit_index> positions) {
   std::uint64_t r = 0;
   for (std::size_t i = 0; i < positions.size(); ++i) r |= ((v >> i) & 1u) << positions[i];
@@ -26,6 +27,7 @@ inline std::uint64_t deposit(std::uint64_t v, std::span<const qubit_index> posit
 }
 
 // Gather the bits at the given positions into a number (inverse of deposit).
+template <int = 0>
 inline std::uint64_t gather(std::uint64_t index, std::span<const qubit_index> positions) {
   std::uint64_t r = 0;
   for (std::size_t i = 0; i < positions.size(); ++i) r |= ((index >> positions[i]) & 1u) << i;
@@ -33,6 +35,7 @@ inline std::uint64_t gather(std::uint64_t index, std::span<const qubit_index> po
 }
 
 // True when positions are consecutive and increasing (a register in a layout).
+template <int = 0>
 inline bool contiguous(std::span<const qubit_index> positions) {
   for (std::size_t i = 1; i < positions.size(); ++i)
     if (positions[i] != positions[0] + i) return false;
@@ -54,6 +57,7 @@ struct subspace {
   }
   std::uint64_t count() const { return std::uint64_t{1} << (n - npos); }
   unsigned run_log2() const { return npos == 0 ? n : pos[0]; }
+  template <int = 0>
   std::uint64_t index(std::uint64_t k) const {
     for (unsigned i = 0; i < npos; ++i) k = insert_zero(k, pos[i]);
     return k | fixed_value;

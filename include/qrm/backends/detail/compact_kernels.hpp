@@ -73,6 +73,7 @@ bool next_match(const Label& x, const Label& mask, const Label& value, Label& ou
 // A 2x2 matrix as (re, im) of m00, m01, m10, m11.
 struct compiled_gate1 {
   double m[8];
+  template <int = 0>
   explicit compiled_gate1(const gate1& g) {
     for (int r = 0; r < 2; ++r)
       for (int c = 0; c < 2; ++c) {
@@ -91,6 +92,7 @@ struct compiled_matrix {
   std::vector<double> re, im;
   std::vector<double> diag_re, diag_im;  // M[r][r]
 
+  template <int = 0>
   explicit compiled_matrix(const dense_matrix& m) : dim(m.dim), diag_re(m.dim), diag_im(m.dim) {
     col_start.push_back(0);
     for (std::size_t c = 0; c < dim; ++c) {
@@ -110,6 +112,7 @@ struct compiled_matrix {
     }
   }
   explicit compiled_matrix(const gate1& g) : compiled_matrix(as_dense(g)) {}
+  template <int = 0>
   static dense_matrix as_dense(const gate1& g) {
     dense_matrix d(2);
     for (std::size_t r = 0; r < 2; ++r)
@@ -156,6 +159,7 @@ class select_lookup {
     const auto it = std::lower_bound(sorted_.begin(), sorted_.end(), std::pair<std::uint64_t, std::int32_t>{v, -1});
     return it != sorted_.end() && it->first == v ? it->second : -1;
   }
+  template <int = 0>
   std::size_t table_bytes() const {
     return table_.capacity() * sizeof(std::int32_t) +
            sorted_.capacity() * sizeof(std::pair<std::uint64_t, std::int32_t>);

@@ -288,10 +288,12 @@ __attribute__((target("avx512f"))) void csr_range_avx512(const csr_job<S>& job, 
                                                          const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
   csr_range_body<S, A, N, Contiguous, RealMatrix, Dim>(job, s, g, k0, k1);
 }
+template <int = 0>
 inline bool cpu_has_avx2_fma() {
   static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
   return yes;
 }
+template <int = 0>
 inline bool cpu_has_avx512f() {
   static const bool yes = __builtin_cpu_supports("avx512f");
   return yes;

@@ -395,6 +395,7 @@ struct unitary_applier {
   }
 };
 
+template <int = 0>
 inline std::vector<std::uint64_t> target_offsets(std::span<const qubit_index> targets) {
   std::vector<std::uint64_t> off(std::size_t{1} << targets.size());
   for (std::size_t r = 0; r < off.size(); ++r) off[r] = deposit(r, targets);
@@ -512,6 +513,7 @@ void kernel_add(S* a, unsigned n, std::int64_t constant, std::span<const qubit_i
 // Visiting each entry's subspace costs a pass over its share of the state, but when the select
 // qubits sit inside a cache line every entry drags in whole lines; one sweep over everything
 // with a table lookup is cheaper then.
+template <int = 0>
 inline bool mux_prefers_sweep(std::size_t entries, std::span<const qubit_index> select, std::size_t scalar_bytes,
                               mux_strategy forced = mux_strategy::automatic) {
   const std::size_t m = select.size();

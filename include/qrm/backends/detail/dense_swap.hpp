@@ -70,6 +70,7 @@ template <class V>
   }
 }
 
+template <int = 0>
 inline void swap_blocks_generic(std::uint32_t* p, std::uint64_t lanes, std::uint64_t block) {
   swap_blocks<v4u32>(p, lanes, block);
 }
@@ -84,12 +85,14 @@ __attribute__((target("avx512f"))) inline void swap_blocks_avx512(std::uint32_t*
 #endif
 
 // The widest vector (in bytes) swap_blocks runs with at `level` (resolved, never automatic).
+template <int = 0>
 inline unsigned swap_vector_bytes(simd_level level) {
   return level == simd_level::avx512 ? 64 : level == simd_level::avx2 ? 32 : 16;
 }
 
 // Swaps adjacent blocks of `block_bytes` throughout `bytes` bytes at p (bytes a multiple of
 // swap_vector_bytes(level) and of 2 * block_bytes; block_bytes a power of two >= 4).
+template <int = 0>
 inline void swap_adjacent_blocks(void* p, std::uint64_t bytes, std::uint64_t block_bytes, simd_level level) {
   auto* w = static_cast<std::uint32_t*>(p);
 #ifdef QRM_HAS_CPU_DISPATCH

@@ -18,6 +18,7 @@
 namespace qrm::detail {
 
 // A 2^k x 2^k matrix for k targets.
+template <int = 0>
 inline void check_matrix_dim(const dense_matrix& m, std::size_t k, const char* what) {
   if (k > 16 || m.dim != (std::size_t{1} << k) || m.data.size() != m.dim * m.dim)
     throw std::invalid_argument(std::string(what) + ": a " + std::to_string(m.dim) + "x" + std::to_string(m.dim) +

@@ -15,6 +15,7 @@ namespace qrm::detail {
 
 // log Gamma(x) for x > 0: shift up to x >= 15 by the recurrence, then Stirling's series (the first
 // omitted term is below 1/(1188 x^9) < 2e-14 there).
+template <int = 0>
 inline double log_gamma(double x) {
   if (!(x > 0) || !std::isfinite(x))
     throw std::domain_error("log_gamma: argument must be positive and finite, got " + std::to_string(x));
@@ -29,6 +30,7 @@ inline double log_gamma(double x) {
 }
 
 // Continued fraction of the incomplete beta function (modified Lentz), valid for x < (a+1)/(a+b+2).
+template <int = 0>
 inline double incomplete_beta_fraction(double a, double b, double x) {
   constexpr double tiny = 1e-300, eps = 1e-16;
   double c = 1.0, d = 1.0 - (a + b) * x / (a + 1.0);
@@ -60,6 +62,7 @@ inline double incomplete_beta_fraction(double a, double b, double x) {
 }
 
 // I_x(a, b), the regularised incomplete beta function (the CDF of Beta(a, b) at x), a, b > 0.
+template <int = 0>
 inline double incomplete_beta(double a, double b, double x) {
   if (!(a > 0) || !(b > 0)) throw std::domain_error("incomplete_beta: a and b must be positive");
   if (x <= 0) return 0.0;
@@ -70,6 +73,7 @@ inline double incomplete_beta(double a, double b, double x) {
 }
 
 // The q-quantile of Beta(a, b): bisection on I_x, to full double precision (I_x is monotone).
+template <int = 0>
 inline double beta_quantile(double q, double a, double b) {
   if (!(q >= 0 && q <= 1)) throw std::domain_error("beta_quantile: q must be in [0, 1], got " + std::to_string(q));
   if (q == 0) return 0.0;
@@ -87,11 +91,13 @@ inline double beta_quantile(double q, double a, double b) {
 }
 
 // Standard normal CDF.
+template <int = 0>
 inline double normal_cdf(double x) {
   return 0.5 * std::erfc(-x / std::numbers::sqrt2);
 }
 
 // The p-quantile of the standard normal: safeguarded Newton on the CDF, bracketed in [-40, 40].
+template <int = 0>
 inline double normal_quantile(double p) {
   if (!(p > 0 && p < 1)) throw std::domain_error("normal_quantile: p must be in (0, 1), got " + std::to_string(p));
   double lo = -40, hi = 40;
@@ -114,6 +120,7 @@ inline double normal_quantile(double p) {
 // Clopper-Pearson interval for `hits` successes in `shots` trials at level 1 - alpha. `hits` may be
 // fractional (exact-probability mode uses shots * p); the beta quantiles are defined for real
 // parameters, and the ends are exactly 0 and 1 at hits = 0 and hits = shots.
+template <int = 0>
 inline std::pair<double, double> clopper_pearson(double hits, double shots, double alpha) {
   if (!(shots > 0)) throw std::invalid_argument("clopper_pearson: shots must be positive");
   hits = std::clamp(hits, 0.0, shots);
@@ -123,6 +130,7 @@ inline std::pair<double, double> clopper_pearson(double hits, double shots, doub
 }
 
 // Wilson score interval for hits/shots at level 1 - alpha (ends exact at hits = 0 and = shots).
+template <int = 0>
 inline std::pair<double, double> wilson(double hits, double shots, double alpha) {
   if (!(shots > 0)) throw std::invalid_argument("wilson: shots must be positive");
   hits = std::clamp(hits, 0.0, shots);
