@@ -315,6 +315,66 @@ TEST_CASE("complex<float> in float arithmetic (float_math::single_precision) mat
     }
 }
 
+TEST_CASE("8x8 matrices with at most 4 non-zeros per row (fixed-width rows) match the reference at every level") {
+  // Such matrices (most of the fused decomposed walk's blocks) run with 2 or 4 entries per row
+  // instead of 8 (dense_batched.hpp's ell_width); rows of 1..4 entries at random columns, real
+  // and complex, targets low / spread / high, with and without a control, on every level in
+  // double arithmetic (complex<double>, complex<float>) and float arithmetic (complex<float>).
+  // Bars as for the dense matrices: each output is a sum of at most 4 products of size <= 1.
+  qrm::rng g(32);
+  const std::size_t n = 11;
+  const std::vector<std::vector<qubit_index>> placements = {{0, 1, 2}, {3, 4, 5}, {0, 5, 9}, {10, 2, 7}, {8, 9, 10}};
+  int sparse_cases = 0;
+  for (unsigned width : {1u, 2u, 3u, 4u})
+    for (bool complex_values : {false, true}) {
+      qrm::dense_matrix m(8);
+      for (std::size_t e = 0; e < width; ++e) m(0, e) = {0.5, complex_values ? 0.25 : 0.0};  // one full row
+      for (std::size_t r = 1; r < 8; ++r) {
+        const std::size_t entries = 1 + static_cast<std::size_t>(g.uniform() * width);  // 1..width
+        for (std::size_t e = 0; e < entries; ++e) {
+          const auto c = static_cast<std::size_t>(g.uniform() * 8);
+          m(r, c) = {2 * g.uniform() - 1, complex_values ? 2 * g.uniform() - 1 : 0.0};
+        }
+      }
+      const qrm::detail::csr_matrix rows = qrm::detail::csr_matrix::of(m);
+      CHECK(qrm::detail::ell_width(rows) == (width <= 2 ? 2u : 4u));
+      for (const auto& ts : placements)
+        for (const std::vector<qrm::control>& cs : {std::vector<qrm::control>{}, std::vector<qrm::control>{{6, true}}}) {
+          if (std::find(ts.begin(), ts.end(), 6u) != ts.end() && !cs.empty()) continue;
+          const auto start = random_unit_state(n, g);
+          reference_state ref(n);
+          ref.amp = start;
+          ref.apply_unitary(m, ts, cs);
+          std::vector<std::complex<float>> rounded(start.size());
+          for (std::size_t i = 0; i < start.size(); ++i) rounded[i] = std::complex<float>(start[i]);
+          reference_state ref_f(n);
+          for (std::size_t i = 0; i < start.size(); ++i) ref_f.amp[i] = std::complex<double>(rounded[i]);
+          ref_f.apply_unitary(m, ts, cs);
+          for (qrm::simd_level level : {qrm::simd_level::generic, qrm::simd_level::avx2, qrm::simd_level::avx512}) {
+            CAPTURE(width);
+            CAPTURE(complex_values);
+            CAPTURE(ts[0]);
+            CAPTURE(static_cast<int>(level));
+            qrm::dense_options o;
+            o.threads = 1;
+            o.simd = level;
+            qrm::state_vector<std::complex<double>> d(n, o);
+            d.set_amplitudes(start);
+            d.apply_unitary(m, ts, cs);
+            CHECK(max_diff(std::vector<std::complex<double>>(d.amplitudes().begin(), d.amplitudes().end()), ref.amp) <= 1e-12);
+            for (bool single : {false, true}) {
+              auto f = float_state(n, level, single, rounded);
+              f.apply_unitary(m, ts, cs);
+              const std::vector<std::complex<double>> got(f.amplitudes().begin(), f.amplitudes().end());
+              CHECK(max_diff(got, ref_f.amp) <= 2e-5);
+            }
+            ++sparse_cases;
+          }
+        }
+    }
+  CHECK(sparse_cases == 4 * 2 * 3 * 5 * 2);
+}
+
 TEST_CASE("complex<float> in float arithmetic: single-qubit gates on targets 0..2 match the reference") {
   // Targets 0..2 take dense_pairs.hpp's in-register kernel where the controls leave whole
   // vectors (none below qubit 3, or 2 with AVX2); a control on qubits 0..2 falls back to the

@@ -89,6 +89,16 @@ struct csr_matrix {
   }
 };
 
+// Entries per row of the fixed-width form csr_range_body runs an 8x8 matrix in (2 or 4: rows
+// padded with zeros), or 0 when a row has more than 4 non-zeros or the matrix is not 8x8.
+template <int = 0>
+inline unsigned ell_width(const csr_matrix& m) {
+  if (m.dim != 8) return 0;
+  std::uint32_t widest = 0;
+  for (std::size_t r = 0; r < 8; ++r) widest = std::max(widest, m.row_start[r + 1] - m.row_start[r]);
+  return widest <= 2 ? 2 : widest <= 4 ? 4 : 0;
+}
+
 // One application: the matrix, each row's offset from a base, the amplitudes.
 template <class S>
 struct csr_job {
@@ -103,6 +113,14 @@ struct csr_job {
   const float* dense_im_f = nullptr;
   const float* rows_re_f = nullptr;
   const float* rows_im_f = nullptr;
+  // Rows of exactly ell_k entries (padded with zeros), when every row of an 8x8 matrix has at
+  // most 4 non-zeros: fixed trip counts without the dense form's zero products.
+  unsigned ell_k = 0;
+  const std::uint8_t* ell_col = nullptr;
+  const double* ell_re = nullptr;
+  const double* ell_im = nullptr;
+  const float* ell_re_f = nullptr;
+  const float* ell_im_f = nullptr;
   simd_level level = simd_level::generic;  // resolved (never automatic)
 };
 
@@ -169,7 +187,7 @@ inline base_groups group_bases(const subspace& s, unsigned per_vector) {
 // out = A + i B, where i B swaps each (re, im) pair and negates the new real part: one vector
 // per column instead of two. Everything it calls is inlined, so each ISA's copy below is
 // self-contained (a helper lambda would be compiled without the caller's ISA).
-template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim>
+template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K = 0>
 [[gnu::always_inline]] inline void csr_range_body(const csr_job<S>& job, const subspace& s, const std::uint64_t* g,
                                                   std::uint64_t k0, std::uint64_t k1) {
   using R = typename scalar_traits<S>::real;
@@ -185,11 +203,16 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
   const A* dense_im;
   const A* rows_re;
   const A* rows_im;
+  const A* ell_re;
+  const A* ell_im;
   if constexpr (std::is_same_v<A, double>) {
     dense_re = job.dense_re, dense_im = job.dense_im, rows_re = m.re.data(), rows_im = m.im.data();
+    ell_re = job.ell_re, ell_im = job.ell_im;
   } else {
     dense_re = job.dense_re_f, dense_im = job.dense_im_f, rows_re = job.rows_re_f, rows_im = job.rows_im_f;
+    ell_re = job.ell_re_f, ell_im = job.ell_im_f;
   }
+  const std::uint8_t* ell_col = job.ell_col;
   R* p = reinterpret_cast<R*>(job.a);
   vec x[vector_kernel_max_dim];
   vec sign;
@@ -224,7 +247,13 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
       }
       for (std::size_t r = 0; r < dim; ++r) {
         vec acc = {}, acc_im = {};
-        if constexpr (Dim != 0) {  // dense: fixed trip counts the compiler unrolls
+        if constexpr (K != 0) {  // fixed-width rows
+          for (unsigned e = 0; e < K; ++e) {
+            const std::size_t at = r * K + e;
+            acc += ell_re[at] * x[ell_col[at]];
+            if constexpr (!RealMatrix) acc_im += ell_im[at] * x[ell_col[at]];
+          }
+        } else if constexpr (Dim != 0) {  // dense: fixed trip counts the compiler unrolls
           for (std::size_t c = 0; c < Dim; ++c) {
             acc += dense_re[r * Dim + c] * x[c];
             if constexpr (!RealMatrix) acc_im += dense_im[r * Dim + c] * x[c];
@@ -270,23 +299,23 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
   }
 }
 
-template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim>
+template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K>
 void csr_range_generic(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0,
                        std::uint64_t k1) {
-  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim>(job, s, g, k0, k1);
+  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K>(job, s, g, k0, k1);
 }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define QRM_HAS_CPU_DISPATCH 1
-template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim>
+template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K>
 __attribute__((target("avx2,fma"))) void csr_range_avx2(const csr_job<S>& job, const subspace& s,
                                                         const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
-  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim>(job, s, g, k0, k1);
+  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K>(job, s, g, k0, k1);
 }
-template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim>
+template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K>
 __attribute__((target("avx512f"))) void csr_range_avx512(const csr_job<S>& job, const subspace& s,
                                                          const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
-  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim>(job, s, g, k0, k1);
+  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K>(job, s, g, k0, k1);
 }
 template <int = 0>
 inline bool cpu_has_avx2_fma() {
@@ -314,7 +343,7 @@ inline simd_level resolve_simd(simd_level asked) {
 
 // Registers of 512 bits (four bases in double, eight in float) run only at avx512, float
 // arithmetic only at avx2 and above (resolve_simd and the caller see to it).
-template <class S, class A, unsigned N, bool Contiguous, std::size_t Dim>
+template <class S, class A, unsigned N, bool Contiguous, std::size_t Dim, unsigned K = 0>
 void csr_range_dim(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0,
                    std::uint64_t k1) {
   const bool real = job.m->real;
@@ -322,23 +351,23 @@ void csr_range_dim(const csr_job<S>& job, const subspace& s, const std::uint64_t
 #ifdef QRM_HAS_CPU_DISPATCH
   if constexpr (wide) {
     if (real)
-      csr_range_avx512<S, A, N, Contiguous, true, Dim>(job, s, g, k0, k1);
+      csr_range_avx512<S, A, N, Contiguous, true, Dim, K>(job, s, g, k0, k1);
     else
-      csr_range_avx512<S, A, N, Contiguous, false, Dim>(job, s, g, k0, k1);
+      csr_range_avx512<S, A, N, Contiguous, false, Dim, K>(job, s, g, k0, k1);
     return;
   } else if (job.level == simd_level::avx2 || !std::is_same_v<A, double>) {
     if (real)
-      csr_range_avx2<S, A, N, Contiguous, true, Dim>(job, s, g, k0, k1);
+      csr_range_avx2<S, A, N, Contiguous, true, Dim, K>(job, s, g, k0, k1);
     else
-      csr_range_avx2<S, A, N, Contiguous, false, Dim>(job, s, g, k0, k1);
+      csr_range_avx2<S, A, N, Contiguous, false, Dim, K>(job, s, g, k0, k1);
     return;
   }
 #endif
   if constexpr (N == 2 && std::is_same_v<A, double>) {
     if (real)
-      csr_range_generic<S, A, N, Contiguous, true, Dim>(job, s, g, k0, k1);
+      csr_range_generic<S, A, N, Contiguous, true, Dim, K>(job, s, g, k0, k1);
     else
-      csr_range_generic<S, A, N, Contiguous, false, Dim>(job, s, g, k0, k1);
+      csr_range_generic<S, A, N, Contiguous, false, Dim, K>(job, s, g, k0, k1);
   }
 }
 
@@ -346,6 +375,8 @@ void csr_range_dim(const csr_job<S>& job, const subspace& s, const std::uint64_t
 // row lists. `s` and `g` are a base_groups' bases and offsets.
 template <class S, unsigned N, bool Contiguous, class A = double>
 void csr_range(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
+  if (job.ell_k == 2) return csr_range_dim<S, A, N, Contiguous, 8, 2>(job, s, g, k0, k1);
+  if (job.ell_k == 4) return csr_range_dim<S, A, N, Contiguous, 8, 4>(job, s, g, k0, k1);
   if (job.dense_re) {
     switch (job.m->dim) {
       case 2: return csr_range_dim<S, A, N, Contiguous, 2>(job, s, g, k0, k1);

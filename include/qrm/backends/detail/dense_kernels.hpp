@@ -423,6 +423,22 @@ void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qub
         job.dense_re = re.data();
         job.dense_im = im.data();
       }
+      std::array<std::uint8_t, 32> ell_col{};
+      std::array<double, 32> ell_re{}, ell_im{};
+      std::array<float, 32> ell_re_f{}, ell_im_f{};
+      if (const unsigned k = ell_width(rows)) {
+        for (std::size_t r = 0; r < 8; ++r)
+          for (std::uint32_t e = rows.row_start[r], j = 0; e < rows.row_start[r + 1]; ++e, ++j) {
+            const std::size_t at = r * k + j;
+            ell_col[at] = static_cast<std::uint8_t>(rows.col[e]);
+            ell_re[at] = rows.re[e], ell_im[at] = rows.im[e];
+            ell_re_f[at] = static_cast<float>(rows.re[e]), ell_im_f[at] = static_cast<float>(rows.im[e]);
+          }
+        job.ell_k = k;
+        job.ell_col = ell_col.data();
+        job.ell_re = ell_re.data(), job.ell_im = ell_im.data();
+        job.ell_re_f = ell_re_f.data(), job.ell_im_f = ell_im_f.data();
+      }
 #ifdef QRM_HAS_CPU_DISPATCH
       // Float arithmetic (asked for, and a CPU with AVX2): eight neighbouring bases per 512-bit
       // register where the lowest 3 qubits are free, else four per 256-bit register (neighbours,
