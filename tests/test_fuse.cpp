@@ -1,6 +1,7 @@
 // Gate fusion (circuit/fuse.hpp): a fused program gives the unfused program's state to rounding
 // on every backend and amplitude type and at every block width; blocks never exceed their
 // width; a product multiplied by hand; the pass counts what it did.
+#include <bit>
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -317,62 +318,80 @@ TEST_CASE("complex<float> in float arithmetic (float_math::single_precision) mat
 
 TEST_CASE("8x8 matrices with at most 4 non-zeros per row (fixed-width rows) match the reference at every level") {
   // Such matrices (most of the fused decomposed walk's blocks) run with 2 or 4 entries per row
-  // instead of 8 (dense_batched.hpp's ell_width); rows of 1..4 entries at random columns, real
-  // and complex, targets low / spread / high, with and without a control, on every level in
-  // double arithmetic (complex<double>, complex<float>) and float arithmetic (complex<float>).
-  // Bars as for the dense matrices: each output is a sum of at most 4 products of size <= 1.
+  // instead of 8 (dense_batched.hpp): at row-list columns (ell_width) or, when every entry sits
+  // at column row ^ d for d in one of xor_offset_sets, at columns fixed at compile time. Cases:
+  // rows of 1..4 entries at random columns, and each offset set in full (row 0 with a zero
+  // entry inside the set); real and complex; targets low / spread / high, with and without a
+  // control; every level, double arithmetic (complex<double>, complex<float>) and float
+  // arithmetic (complex<float>). Bars as for dense matrices: each output sums at most 4 products.
   qrm::rng g(32);
   const std::size_t n = 11;
-  const std::vector<std::vector<qubit_index>> placements = {{0, 1, 2}, {3, 4, 5}, {0, 5, 9}, {10, 2, 7}, {8, 9, 10}};
-  int sparse_cases = 0;
-  for (unsigned width : {1u, 2u, 3u, 4u})
-    for (bool complex_values : {false, true}) {
+  auto value = [&](bool complex_values) { return qrm::complex{2 * g.uniform() - 1, complex_values ? 2 * g.uniform() - 1 : 0.0}; };
+  struct sparse_case {
+    qrm::dense_matrix m;
+    unsigned width, offsets;  // expected ell_width and xor_offset_set
+  };
+  std::vector<sparse_case> cases;
+  for (bool complex_values : {false, true}) {
+    for (unsigned width : {1u, 2u, 3u, 4u}) {
       qrm::dense_matrix m(8);
-      for (std::size_t e = 0; e < width; ++e) m(0, e) = {0.5, complex_values ? 0.25 : 0.0};  // one full row
+      for (std::size_t e = 0; e < width; ++e) m(0, 7 - 2 * e) = value(complex_values);  // offsets 7, 5, 3, 1
       for (std::size_t r = 1; r < 8; ++r) {
         const std::size_t entries = 1 + static_cast<std::size_t>(g.uniform() * width);  // 1..width
-        for (std::size_t e = 0; e < entries; ++e) {
-          const auto c = static_cast<std::size_t>(g.uniform() * 8);
-          m(r, c) = {2 * g.uniform() - 1, complex_values ? 2 * g.uniform() - 1 : 0.0};
+        for (std::size_t e = 0; e < entries; ++e) m(r, static_cast<std::size_t>(g.uniform() * 8)) = value(complex_values);
+      }
+      cases.push_back({m, width <= 2 ? 2u : 4u, 0u});  // offset 7 lies in no set
+    }
+    for (unsigned set : qrm::detail::xor_offset_sets) {
+      const auto w = static_cast<unsigned>(std::popcount(set));
+      qrm::dense_matrix m(8);
+      for (std::size_t r = 0; r < 8; ++r)
+        for (unsigned e = 0; e < w; ++e) m(r, r ^ qrm::detail::nth_bit(set, e)) = value(complex_values);
+      m(0, qrm::detail::nth_bit(set, w - 1)) = 0;
+      cases.push_back({m, w, set});
+    }
+  }
+  int runs = 0;
+  const std::vector<std::vector<qubit_index>> placements = {{0, 1, 2}, {3, 4, 5}, {0, 5, 9}, {10, 2, 7}, {8, 9, 10}};
+  for (const sparse_case& c : cases) {
+    const qrm::detail::csr_matrix rows = qrm::detail::csr_matrix::of(c.m);
+    CHECK(qrm::detail::ell_width(rows) == c.width);
+    CHECK(qrm::detail::xor_offset_set(rows) == c.offsets);
+    for (const auto& ts : placements)
+      for (const std::vector<qrm::control>& cs : {std::vector<qrm::control>{}, std::vector<qrm::control>{{6, true}}}) {
+        const auto start = random_unit_state(n, g);
+        reference_state ref(n);
+        ref.amp = start;
+        ref.apply_unitary(c.m, ts, cs);
+        std::vector<std::complex<float>> rounded(start.size());
+        for (std::size_t i = 0; i < start.size(); ++i) rounded[i] = std::complex<float>(start[i]);
+        reference_state ref_f(n);
+        for (std::size_t i = 0; i < start.size(); ++i) ref_f.amp[i] = std::complex<double>(rounded[i]);
+        ref_f.apply_unitary(c.m, ts, cs);
+        for (qrm::simd_level level : {qrm::simd_level::generic, qrm::simd_level::avx2, qrm::simd_level::avx512}) {
+          CAPTURE(c.width);
+          CAPTURE(c.offsets);
+          CAPTURE(c.m.is_real());
+          CAPTURE(ts[0]);
+          CAPTURE(static_cast<int>(level));
+          qrm::dense_options o;
+          o.threads = 1;
+          o.simd = level;
+          qrm::state_vector<std::complex<double>> d(n, o);
+          d.set_amplitudes(start);
+          d.apply_unitary(c.m, ts, cs);
+          CHECK(max_diff(std::vector<std::complex<double>>(d.amplitudes().begin(), d.amplitudes().end()), ref.amp) <= 1e-12);
+          for (bool single : {false, true}) {
+            auto f = float_state(n, level, single, rounded);
+            f.apply_unitary(c.m, ts, cs);
+            const std::vector<std::complex<double>> got(f.amplitudes().begin(), f.amplitudes().end());
+            CHECK(max_diff(got, ref_f.amp) <= 2e-5);
+          }
+          ++runs;
         }
       }
-      const qrm::detail::csr_matrix rows = qrm::detail::csr_matrix::of(m);
-      CHECK(qrm::detail::ell_width(rows) == (width <= 2 ? 2u : 4u));
-      for (const auto& ts : placements)
-        for (const std::vector<qrm::control>& cs : {std::vector<qrm::control>{}, std::vector<qrm::control>{{6, true}}}) {
-          if (std::find(ts.begin(), ts.end(), 6u) != ts.end() && !cs.empty()) continue;
-          const auto start = random_unit_state(n, g);
-          reference_state ref(n);
-          ref.amp = start;
-          ref.apply_unitary(m, ts, cs);
-          std::vector<std::complex<float>> rounded(start.size());
-          for (std::size_t i = 0; i < start.size(); ++i) rounded[i] = std::complex<float>(start[i]);
-          reference_state ref_f(n);
-          for (std::size_t i = 0; i < start.size(); ++i) ref_f.amp[i] = std::complex<double>(rounded[i]);
-          ref_f.apply_unitary(m, ts, cs);
-          for (qrm::simd_level level : {qrm::simd_level::generic, qrm::simd_level::avx2, qrm::simd_level::avx512}) {
-            CAPTURE(width);
-            CAPTURE(complex_values);
-            CAPTURE(ts[0]);
-            CAPTURE(static_cast<int>(level));
-            qrm::dense_options o;
-            o.threads = 1;
-            o.simd = level;
-            qrm::state_vector<std::complex<double>> d(n, o);
-            d.set_amplitudes(start);
-            d.apply_unitary(m, ts, cs);
-            CHECK(max_diff(std::vector<std::complex<double>>(d.amplitudes().begin(), d.amplitudes().end()), ref.amp) <= 1e-12);
-            for (bool single : {false, true}) {
-              auto f = float_state(n, level, single, rounded);
-              f.apply_unitary(m, ts, cs);
-              const std::vector<std::complex<double>> got(f.amplitudes().begin(), f.amplitudes().end());
-              CHECK(max_diff(got, ref_f.amp) <= 2e-5);
-            }
-            ++sparse_cases;
-          }
-        }
-    }
-  CHECK(sparse_cases == 4 * 2 * 3 * 5 * 2);
+  }
+  CHECK(runs == 16 * 5 * 2 * 3);
 }
 
 TEST_CASE("complex<float> in float arithmetic: single-qubit gates on targets 0..2 match the reference") {

@@ -18,6 +18,8 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <complex>
 #include <cstddef>
 #include <cstdint>
@@ -99,6 +101,40 @@ inline unsigned ell_width(const csr_matrix& m) {
   return widest <= 2 ? 2 : widest <= 4 ? 4 : 0;
 }
 
+// The set D of offsets d = row ^ column of an 8x8 matrix's non-zeros, when it lies within one of
+// the sets compiled for (pairs on one bit: {0, 1}, {0, 2}, {0, 4}; quadruples {0, 1, 4, 5}), else
+// 0. Row r then reads only x[r ^ d], indices known at compile time, so the eight inputs stay in
+// registers: the fused decomposed walk's blocks are mostly of this kind (208 of its 351 ops are
+// pairs, 48 quadruples).
+inline constexpr unsigned xor_offset_sets[] = {0x03u, 0x05u, 0x11u, 0x33u};
+template <int = 0>
+inline unsigned xor_offset_set(const csr_matrix& m) {
+  if (m.dim != 8) return 0;
+  unsigned used = 0;
+  for (std::uint32_t r = 0; r < 8; ++r)
+    for (std::uint32_t e = m.row_start[r]; e < m.row_start[r + 1]; ++e) used |= 1u << (r ^ m.col[e]);
+  for (unsigned set : xor_offset_sets)
+    if ((used & ~set) == 0) return set;
+  return 0;
+}
+
+// The n-th (from 0) set bit of `set`.
+constexpr unsigned nth_bit(unsigned set, std::size_t n) {
+  for (unsigned b = 0; b < 32; ++b)
+    if ((set >> b) & 1u) {
+      if (n == 0) return b;
+      --n;
+    }
+  return 0;
+}
+
+template <unsigned Set>
+constexpr std::array<unsigned, std::popcount(Set)> offsets_of() {
+  std::array<unsigned, std::popcount(Set)> d{};
+  for (std::size_t e = 0; e < d.size(); ++e) d[e] = nth_bit(Set, e);
+  return d;
+}
+
 // One application: the matrix, each row's offset from a base, the amplitudes.
 template <class S>
 struct csr_job {
@@ -116,6 +152,9 @@ struct csr_job {
   // Rows of exactly ell_k entries (padded with zeros), when every row of an 8x8 matrix has at
   // most 4 non-zeros: fixed trip counts without the dense form's zero products.
   unsigned ell_k = 0;
+  // Or, with ell_xor set (see xor_offset_set), entry e of row r is the one at column r ^ d_e, d_e
+  // the e-th offset of the set (ell_col unused).
+  unsigned ell_xor = 0;
   const std::uint8_t* ell_col = nullptr;
   const double* ell_re = nullptr;
   const double* ell_im = nullptr;
@@ -187,7 +226,7 @@ inline base_groups group_bases(const subspace& s, unsigned per_vector) {
 // out = A + i B, where i B swaps each (re, im) pair and negates the new real part: one vector
 // per column instead of two. Everything it calls is inlined, so each ISA's copy below is
 // self-contained (a helper lambda would be compiled without the caller's ISA).
-template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K = 0>
+template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K = 0, unsigned XorSet = 0>
 [[gnu::always_inline]] inline void csr_range_body(const csr_job<S>& job, const subspace& s, const std::uint64_t* g,
                                                   std::uint64_t k0, std::uint64_t k1) {
   using R = typename scalar_traits<S>::real;
@@ -247,7 +286,14 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
       }
       for (std::size_t r = 0; r < dim; ++r) {
         vec acc = {}, acc_im = {};
-        if constexpr (K != 0) {  // fixed-width rows
+        if constexpr (XorSet != 0) {  // row r's entries at columns r ^ d, d in XorSet: all indices fixed
+          constexpr unsigned width = std::popcount(XorSet);
+          constexpr auto d = offsets_of<XorSet>();
+          for (unsigned e = 0; e < width; ++e) {
+            acc += ell_re[r * width + e] * x[r ^ d[e]];
+            if constexpr (!RealMatrix) acc_im += ell_im[r * width + e] * x[r ^ d[e]];
+          }
+        } else if constexpr (K != 0) {  // fixed-width rows
           for (unsigned e = 0; e < K; ++e) {
             const std::size_t at = r * K + e;
             acc += ell_re[at] * x[ell_col[at]];
@@ -299,23 +345,23 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
   }
 }
 
-template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K>
+template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K, unsigned XorSet>
 void csr_range_generic(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0,
                        std::uint64_t k1) {
-  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K>(job, s, g, k0, k1);
+  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet>(job, s, g, k0, k1);
 }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define QRM_HAS_CPU_DISPATCH 1
-template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K>
+template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K, unsigned XorSet>
 __attribute__((target("avx2,fma"))) void csr_range_avx2(const csr_job<S>& job, const subspace& s,
                                                         const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
-  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K>(job, s, g, k0, k1);
+  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet>(job, s, g, k0, k1);
 }
-template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K>
+template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K, unsigned XorSet>
 __attribute__((target("avx512f"))) void csr_range_avx512(const csr_job<S>& job, const subspace& s,
                                                          const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
-  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K>(job, s, g, k0, k1);
+  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet>(job, s, g, k0, k1);
 }
 template <int = 0>
 inline bool cpu_has_avx2_fma() {
@@ -343,40 +389,47 @@ inline simd_level resolve_simd(simd_level asked) {
 
 // Registers of 512 bits (four bases in double, eight in float) run only at avx512, float
 // arithmetic only at avx2 and above (resolve_simd and the caller see to it).
-template <class S, class A, unsigned N, bool Contiguous, std::size_t Dim, unsigned K = 0>
-void csr_range_dim(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0,
+template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K, unsigned XorSet>
+void csr_range_isa(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0,
                    std::uint64_t k1) {
-  const bool real = job.m->real;
   constexpr bool wide = N * sizeof(A) * 2 == 64;
 #ifdef QRM_HAS_CPU_DISPATCH
   if constexpr (wide) {
-    if (real)
-      csr_range_avx512<S, A, N, Contiguous, true, Dim, K>(job, s, g, k0, k1);
-    else
-      csr_range_avx512<S, A, N, Contiguous, false, Dim, K>(job, s, g, k0, k1);
+    csr_range_avx512<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet>(job, s, g, k0, k1);
     return;
   } else if (job.level == simd_level::avx2 || !std::is_same_v<A, double>) {
-    if (real)
-      csr_range_avx2<S, A, N, Contiguous, true, Dim, K>(job, s, g, k0, k1);
-    else
-      csr_range_avx2<S, A, N, Contiguous, false, Dim, K>(job, s, g, k0, k1);
+    csr_range_avx2<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet>(job, s, g, k0, k1);
     return;
   }
 #endif
-  if constexpr (N == 2 && std::is_same_v<A, double>) {
-    if (real)
-      csr_range_generic<S, A, N, Contiguous, true, Dim, K>(job, s, g, k0, k1);
-    else
-      csr_range_generic<S, A, N, Contiguous, false, Dim, K>(job, s, g, k0, k1);
-  }
+  if constexpr (N == 2 && std::is_same_v<A, double>) csr_range_generic<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet>(job, s, g, k0, k1);
+}
+
+// The fixed-width forms (K, XorSet) are compiled for complex matrices only: a real one runs the
+// same code with zero imaginary parts (rare in fused circuits), half the copies.
+template <class S, class A, unsigned N, bool Contiguous, std::size_t Dim, unsigned K = 0, unsigned XorSet = 0>
+void csr_range_dim(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0,
+                   std::uint64_t k1) {
+  if constexpr (K == 0 && XorSet == 0)
+    if (job.m->real) return csr_range_isa<S, A, N, Contiguous, true, Dim, 0, 0>(job, s, g, k0, k1);
+  csr_range_isa<S, A, N, Contiguous, false, Dim, K, XorSet>(job, s, g, k0, k1);
 }
 
 // Dense matrices of 4, 8 or 16 rows run with unrolled loops; sparse ones (and 32, 64 rows) by
 // row lists. `s` and `g` are a base_groups' bases and offsets.
 template <class S, unsigned N, bool Contiguous, class A = double>
 void csr_range(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
-  if (job.ell_k == 2) return csr_range_dim<S, A, N, Contiguous, 8, 2>(job, s, g, k0, k1);
-  if (job.ell_k == 4) return csr_range_dim<S, A, N, Contiguous, 8, 4>(job, s, g, k0, k1);
+  if constexpr (Contiguous) {  // the fixed-width forms only where bases are neighbours (see csr_range_dim)
+    switch (job.ell_xor) {
+      case 0x03: return csr_range_dim<S, A, N, Contiguous, 8, 0, 0x03>(job, s, g, k0, k1);
+      case 0x05: return csr_range_dim<S, A, N, Contiguous, 8, 0, 0x05>(job, s, g, k0, k1);
+      case 0x11: return csr_range_dim<S, A, N, Contiguous, 8, 0, 0x11>(job, s, g, k0, k1);
+      case 0x33: return csr_range_dim<S, A, N, Contiguous, 8, 0, 0x33>(job, s, g, k0, k1);
+      default: break;
+    }
+    if (job.ell_k == 2) return csr_range_dim<S, A, N, Contiguous, 8, 2>(job, s, g, k0, k1);
+    if (job.ell_k == 4) return csr_range_dim<S, A, N, Contiguous, 8, 4>(job, s, g, k0, k1);
+  }
   if (job.dense_re) {
     switch (job.m->dim) {
       case 2: return csr_range_dim<S, A, N, Contiguous, 2>(job, s, g, k0, k1);

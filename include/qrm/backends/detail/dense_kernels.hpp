@@ -435,6 +435,16 @@ void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qub
             ell_re_f[at] = static_cast<float>(rows.re[e]), ell_im_f[at] = static_cast<float>(rows.im[e]);
           }
         job.ell_k = k;
+        if (const unsigned set = xor_offset_set(rows)) {
+          const auto w = static_cast<unsigned>(std::popcount(set));
+          for (std::size_t r = 0; r < 8; ++r)
+            for (unsigned e = 0; e < w; ++e) {
+              const complex z = m(r, r ^ nth_bit(set, e));
+              ell_re[r * w + e] = z.real(), ell_im[r * w + e] = z.imag();
+              ell_re_f[r * w + e] = static_cast<float>(z.real()), ell_im_f[r * w + e] = static_cast<float>(z.imag());
+            }
+          job.ell_xor = set;
+        }
         job.ell_col = ell_col.data();
         job.ell_re = ell_re.data(), job.ell_im = ell_im.data();
         job.ell_re_f = ell_re_f.data(), job.ell_im_f = ell_im_f.data();
