@@ -97,7 +97,6 @@ class analytic_oracle {
     return from_problem<Backend>(e, [](std::size_t n) { return Backend(n); });
   }
 
-  template <int = 0>
   double amplitude() const { return a_; }  // a = P(good) in A|0>
   double theta() const { return theta_; }
   double probability(std::uint64_t k) const { return detail::amplified_probability(theta_, k); }

@@ -129,7 +129,6 @@ class scene {
   // lambertian_coin(): the 2D Lambertian coin its file asked for ('lambertian paper|symmetric').
   lambertian_2d lambertian_coin() const { return lambertian_; }
   void set_lambertian_coin(lambertian_2d l) { lambertian_ = l; }
-  template <int = 0>
   unsigned position_bits() const { return bits_; }  // P, with N = 2^P
   std::size_t voxel_count() const { return voxels_.size(); }
 
