@@ -427,24 +427,23 @@ void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qub
       std::array<double, 32> ell_re{}, ell_im{};
       std::array<float, 32> ell_re_f{}, ell_im_f{};
       if (const unsigned k = ell_width(rows)) {
+        // Row r's entries: at columns r ^ d (d from the offset set, fixed at compile time), or
+        // at listed columns padded to k.
+        const unsigned set = xor_offset_set(rows);
+        const auto w = set ? static_cast<unsigned>(std::popcount(set)) : k;
         for (std::size_t r = 0; r < 8; ++r)
-          for (std::uint32_t e = rows.row_start[r], j = 0; e < rows.row_start[r + 1]; ++e, ++j) {
-            const std::size_t at = r * k + j;
-            ell_col[at] = static_cast<std::uint8_t>(rows.col[e]);
-            ell_re[at] = rows.re[e], ell_im[at] = rows.im[e];
-            ell_re_f[at] = static_cast<float>(rows.re[e]), ell_im_f[at] = static_cast<float>(rows.im[e]);
+          for (unsigned e = 0; e < w; ++e) {
+            const std::uint32_t at_row = rows.row_start[r] + e;
+            const bool listed = at_row < rows.row_start[r + 1];
+            const std::size_t c = set ? r ^ nth_bit(set, e) : listed ? rows.col[at_row] : 0;
+            const complex z = set || listed ? m(r, c) : complex{};
+            const std::size_t at = r * w + e;
+            ell_col[at] = static_cast<std::uint8_t>(c);
+            ell_re[at] = z.real(), ell_im[at] = z.imag();
+            ell_re_f[at] = static_cast<float>(z.real()), ell_im_f[at] = static_cast<float>(z.imag());
           }
         job.ell_k = k;
-        if (const unsigned set = xor_offset_set(rows)) {
-          const auto w = static_cast<unsigned>(std::popcount(set));
-          for (std::size_t r = 0; r < 8; ++r)
-            for (unsigned e = 0; e < w; ++e) {
-              const complex z = m(r, r ^ nth_bit(set, e));
-              ell_re[r * w + e] = z.real(), ell_im[r * w + e] = z.imag();
-              ell_re_f[r * w + e] = static_cast<float>(z.real()), ell_im_f[r * w + e] = static_cast<float>(z.imag());
-            }
-          job.ell_xor = set;
-        }
+        job.ell_xor = set;
         job.ell_col = ell_col.data();
         job.ell_re = ell_re.data(), job.ell_im = ell_im.data();
         job.ell_re_f = ell_re_f.data(), job.ell_im_f = ell_im_f.data();
