@@ -143,7 +143,9 @@ void BM_gate1_complex(benchmark::State& st) {
 // C^k X (args: n, k, placement, threads). placement 0: controls on the top k qubits, target 0,
 // so the touched amplitudes are one contiguous block; placement 1: controls on qubits 0..k-1,
 // target n-1, so every touched amplitude sits in its own cache line 2^k amplitudes apart (the
-// worst case: bounded by memory latency, not bandwidth).
+// worst case: bounded by memory latency, not bandwidth); placement 2: controls on qubits 1..k,
+// target k + 3 (the Toffolis of a random circuit: controls inside each cache line, so every line
+// is read; bound by bandwidth, a full pass).
 template <class S>
 void BM_mcx(benchmark::State& st) {
   const int n = static_cast<int>(st.range(0));
@@ -151,8 +153,10 @@ void BM_mcx(benchmark::State& st) {
   const bool strided = st.range(2) == 1;
   auto& s = state<S>(n, static_cast<unsigned>(st.range(3)));
   std::vector<qrm::control> cs;
-  for (int i = 0; i < k; ++i) cs.push_back({static_cast<qrm::qubit_index>(strided ? i : n - 1 - i), true});
-  const auto target = static_cast<qrm::qubit_index>(strided ? n - 1 : 0);
+  const int placement = static_cast<int>(st.range(2));
+  for (int i = 0; i < k; ++i)
+    cs.push_back({static_cast<qrm::qubit_index>(placement == 2 ? i + 1 : strided ? i : n - 1 - i), true});
+  const auto target = static_cast<qrm::qubit_index>(placement == 2 ? k + 3 : strided ? n - 1 : 0);
   for (auto _ : st) s.apply_gate1(qrm::gate::x(), target, cs);
   report(st, 2.0 * std::ldexp(sizeof(S), n - k));
   touch_bytes_label<S>(st, n);
@@ -209,6 +213,9 @@ BENCHMARK(BM_mcx<cd>)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct
 // should follow the bytes moved, whatever the element type.
 BENCHMARK(BM_mcx<std::complex<float>>)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{26}, {8, 12}, {0, 1}, {1}})->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_mcx<double>)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{26}, {8, 12}, {0, 1}, {1}})->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_mcx<cd>)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{24}, {1, 2}, {2}, {1}})->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_mcx<std::complex<float>>)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{24}, {1, 2}, {2}, {1}})->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_mcx<double>)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{24}, {1, 2}, {2}, {1}})->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_controlled_ry)->ArgNames({"n", "threads"})->Apply(sizes_and_threads)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_mux_ry)->ArgNames({"n", "threads"})->Apply(sizes_and_threads)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_increment)->ArgNames({"n", "threads"})->Apply(sizes_and_threads)->UseRealTime()->Unit(benchmark::kMillisecond);

@@ -23,9 +23,11 @@ TEST_CASE_TEMPLATE_INVOKE(thread_determinism, qrm::state_vector<double>, qrm::st
 TEST_CASE_TEMPLATE_INVOKE(chunked_subspaces, qrm::state_vector<double>, qrm::state_vector<std::complex<float>>);
 
 // X is a byte move (detail/dense_swap.hpp): blocks of 2^t amplitudes narrower than a vector are
-// swapped by one shuffle inside the register, wider ones as whole vectors, at each vector width.
-// Every target 0..8 (blocks of 4 bytes to 4 KiB), targets below, between and above controls, one
-// and two threads with chunks, each scalar: the state must be the exact index permutation.
+// swapped by one shuffle inside the register, wider ones as whole vectors, at each vector width;
+// controls on the lowest qubits below the target become a lane mask. Every target (blocks of 4
+// bytes to 128 KiB), targets below, between and above controls (set and clear, inside and beyond
+// the masked lanes), one and two threads with chunks, each scalar: the state must be the exact
+// index permutation.
 TEST_CASE_TEMPLATE("X swaps blocks of every width exactly at every vector level", S, double, float,
                    std::complex<double>, std::complex<float>) {
   const unsigned n = 14;
@@ -38,12 +40,12 @@ TEST_CASE_TEMPLATE("X swaps blocks of every width exactly at every vector level"
   }
   const std::vector<std::vector<qrm::control>> control_sets = {
       {}, {{13, true}, {12, false}, {11, true}}, {{13, true}, {12, true}, {11, true}, {10, false}, {9, true}, {8, true}},
-      {{4, true}}};
+      {{4, true}}, {{0, true}, {2, false}}, {{1, true}, {3, true}, {12, false}}, {{6, false}}};
   std::size_t cases = 0;
   for (qrm::simd_level level : {qrm::simd_level::generic, qrm::simd_level::avx2, qrm::simd_level::avx512})
     for (unsigned threads : {1u, 2u})
       for (const auto& cs : control_sets)
-        for (qrm::qubit_index t = 0; t <= 8; ++t) {
+        for (qrm::qubit_index t = 0; t < n; ++t) {
           if (std::any_of(cs.begin(), cs.end(), [&](const qrm::control& c) { return c.qubit == t; })) continue;
           qrm::dense_options o;
           o.threads = threads;
@@ -62,14 +64,16 @@ TEST_CASE_TEMPLATE("X swaps blocks of every width exactly at every vector level"
           CHECK(wrong == 0);
           ++cases;
         }
-  CHECK(cases == 3 * 2 * (9 + 9 + 8 + 8));
+  CHECK(cases == 3 * 2 * (14 + 11 + 8 + 13 + 12 + 11 + 13));
 }
 
 // qrm::run on the dense backend applies runs of ops whose moving qubits fit a chunk chunk by
 // chunk (detail/dense_blocked.hpp): qubits renumbered, controls outside the chunk resolved per
 // chunk, chunks copied when they are not the lowest qubits. Random programs of every op kind
 // (controls anywhere) against the reference simulator, at chunks of 2^4..2^10 amplitudes and off,
-// one and two threads; chunks of 2^7 and more must actually gather a quarter of the ops into runs.
+// one and two threads; every run that fits is chunked (chunk_min_passes 0: the default leaves
+// the short runs of these programs op by op), and chunks of 2^7 and more must actually gather a
+// quarter of the ops into runs.
 TEST_CASE_TEMPLATE("programs run chunk by chunk match the reference at every chunk size and thread count", S, double,
                    float, std::complex<double>, std::complex<float>) {
   using B = qrm::state_vector<S>;
@@ -91,7 +95,7 @@ TEST_CASE_TEMPLATE("programs run chunk by chunk match the reference at every chu
     for (const unsigned chunk_log2 : {0u, 4u, 5u, 7u, 9u, 10u}) {
       if (chunk_log2 >= 7) {  // smaller chunks hold little beside the lowest qubits every chunk keeps
         std::size_t grouped = 0;
-        for (const auto& run : qrm::detail::plan_runs(p.ops(), n, chunk_log2, qrm::detail::chunk_low_qubits<S>()))
+        for (const auto& run : qrm::detail::plan_runs(p.ops(), n, chunk_log2, qrm::detail::chunk_low_qubits<S>(), 0))
           if (run.local) grouped += run.last - run.first;
         CHECK(grouped >= p.size() / 4);
       }
@@ -99,6 +103,7 @@ TEST_CASE_TEMPLATE("programs run chunk by chunk match the reference at every chu
         B b = T::make(n, threads);
         b.set_min_parallel(1);
         b.set_chunk_bytes(chunk_log2 ? sizeof(S) << chunk_log2 : 0);
+        b.set_chunk_min_passes(0);
         T::load(b, start);
         reference_state ref(n);
         ref.amp = T::dump(b);

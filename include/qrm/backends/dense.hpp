@@ -52,6 +52,9 @@ struct dense_options {
   // one trip to memory per run instead of per op (detail/dense_blocked.hpp); 0: op by op. The
   // default is a typical per-core L2 cache (bench/RESULTS.md measures 256 KiB to 4 MiB).
   std::uint64_t chunk_bytes = std::uint64_t{1} << 20;
+  // ... when the run's ops would make at least this many passes over memory one by one (see
+  // detail::memory_passes; fewer cost less than the chunk's copy).
+  double chunk_min_passes = detail::min_chunked_passes;
 };
 
 namespace detail {
@@ -109,6 +112,7 @@ class state_vector {
     ex_.simd = opt.simd;
     ex_.math = opt.math;
     chunk_bytes_ = opt.chunk_bytes;
+    chunk_min_passes_ = opt.chunk_min_passes;
     try {
       amps_.assign(static_cast<std::size_t>(std::uint64_t{1} << n_), Scalar{});
     } catch (const std::bad_alloc&) {
@@ -189,7 +193,7 @@ class state_vector {
     const auto ck = checks();
     detail::validating_sink<decltype(ck)> validator{ck};
     for (const op::any& o : ops) emit_op(o, validator);
-    for (const detail::op_run& r : detail::plan_runs(ops, n_, m, detail::chunk_low_qubits<Scalar>())) {
+    for (const detail::op_run& r : detail::plan_runs(ops, n_, m, detail::chunk_low_qubits<Scalar>(), chunk_min_passes_)) {
       if (r.local == 0)
         emit_op(ops[r.first], *this);
       else
@@ -197,6 +201,7 @@ class state_vector {
     }
   }
   void set_chunk_bytes(std::uint64_t bytes) { chunk_bytes_ = bytes; }
+  void set_chunk_min_passes(double passes) { chunk_min_passes_ = passes; }
 
   // ---- reading the state ----------------------------------------------------------------------
 
@@ -231,6 +236,7 @@ class state_vector {
   std::vector<Scalar, detail::huge_page_allocator<Scalar>> amps_;
   detail::exec_policy ex_;
   std::uint64_t chunk_bytes_ = 0;
+  double chunk_min_passes_ = detail::min_chunked_passes;
 };
 
 // dense_backend: the dense backend as a type (qrm::backend_family): real or complex double.

@@ -221,6 +221,14 @@ inline base_groups group_bases(const subspace& s, unsigned per_vector) {
   return {subspace(s.n, mask, s.fixed_value), {0, bits[0], bits[1], bits[0] | bits[1]}, false, true};
 }
 
+// Hint that a[i] will be written soon. The address is formed as an integer because it may lie
+// past the end of the vector near the last block (a prefetch never faults; pointer arithmetic
+// out of bounds would be undefined).
+template <class S>
+[[gnu::always_inline]] inline void prefetch_for_write(const S* a, std::uint64_t i) {
+  __builtin_prefetch(reinterpret_cast<const void*>(reinterpret_cast<std::uintptr_t>(a) + i * sizeof(S)), 1);
+}
+
 // Applies the job at the bases that are members [k0, k1) of s, N bases per vector (see
 // base_groups), in arithmetic type A (double, or float for complex<float>). A complex product is two sums, A = sum re(m) x and B = sum im(m) x, and
 // out = A + i B, where i B swaps each (re, im) pair and negates the new real part: one vector
@@ -264,6 +272,15 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
     const std::uint64_t first = free | s.fixed_value;
     const std::uint64_t len = std::min(run, k1 - k);
     for (std::uint64_t b = first; b < first + len; b += Contiguous ? N : 1) {
+      // Each column is its own stream, and streams 2^t apart that jump every 2^t amplitudes
+      // defeat the hardware prefetcher (see for_each_pair): fetch each one's line 8 KiB ahead
+      // (an 8x8 real matrix on targets 4, 8, 9, n = 24: 7.0 -> 5.1 ms). Not for the offset-set
+      // forms in float arithmetic, whose few products leave no time to hide it (the fused walk:
+      // 0.155 -> 0.170 s with it; in double arithmetic 0.39 -> 0.37 s).
+      if constexpr (Contiguous && (XorSet == 0 || std::is_same_v<A, double>))
+        if ((b & (64 / sizeof(S) - 1)) == 0)
+          for (std::size_t c = 0; c < dim; ++c)
+            prefetch_for_write(p, 2 * (b + off[c]) + 8192 / sizeof(R));
       for (std::size_t c = 0; c < dim; ++c) {
         stored v;
         if constexpr (Contiguous) {

@@ -11,8 +11,8 @@
 // independent, so they are also the unit of parallel work.
 //
 // Runs are formed greedily in program order: an op joins the current run while the union of the
-// run's moving qubits stays within m. A run with fewer than two memory-bound ops (see
-// memory_bound) is applied op by op to the whole state as usual.
+// run's moving qubits stays within m. A run whose ops would make fewer than min_chunked_passes
+// passes over memory (see memory_passes) is applied op by op to the whole state as usual.
 #pragma once
 
 #include <algorithm>
@@ -83,20 +83,43 @@ bool memory_bound(const op::any& o) {
   return true;
 }
 
+// The passes over memory an op costs applied on its own: 0 for an arithmetic-bound op, else 1
+// halved for each control on a qubit at or above `low` (below it, every line is read anyway).
+template <int = 0>
+double memory_passes(const op::any& o, unsigned low) {
+  if (!memory_bound(o)) return 0;
+  double passes = 1;
+  visit_op(o, [&](const auto& x) {
+    for (const control& c : x.controls)
+      if (c.qubit >= low) passes /= 2;
+  });
+  return passes;
+}
+
+// A run is chunked when its ops would make at least this many passes over memory on their own.
+// The chunk's copy and its in-cache work cost about as much as a few passes once the kernels run
+// at memory speed: on the AMD EPYC VM (2026-12-04, one thread, qrm::run harness) the fused random
+// suites took 0.55-0.58 s (24 qubits, complex<float>, float arithmetic) op by op, 0.70 s chunked
+// at 2 passes and more, 0.57 s at 6; the unfused decomposed walk (complex<double>) 3.1 s op by
+// op, 2.8 s at 2 passes, 3.0 s at 6.
+inline constexpr double min_chunked_passes = 6;
+
 // The runs of `ops` for chunks of m qubits in an n-qubit state (see the top of this header). Every
 // chunk holds the lowest `low` qubits, so a copied chunk moves runs of 2^low contiguous amplitudes
-// (one amplitude at a time would cost more than the ops it saves).
+// (one amplitude at a time would cost more than the ops it saves). A run is chunked when its
+// ops' memory_passes add up to min_passes.
 template <int = 0>
-std::vector<op_run> plan_runs(std::span<const op::any> ops, unsigned n, unsigned m, unsigned low = 0) {
+std::vector<op_run> plan_runs(std::span<const op::any> ops, unsigned n, unsigned m, unsigned low = 0,
+                              double min_passes = min_chunked_passes) {
   std::vector<op_run> runs;
   const std::uint64_t reserved = (std::uint64_t{1} << std::min(low, m)) - 1;
   std::uint64_t cur = reserved;
   std::size_t start = 0;
   auto close = [&](std::size_t end) {
     if (end == start) return;
-    const auto cheap = std::count_if(ops.begin() + static_cast<std::ptrdiff_t>(start),
-                                     ops.begin() + static_cast<std::ptrdiff_t>(end), memory_bound<>);
-    if (cheap < 2) {
+    double passes = 0;
+    for (std::size_t i = start; i < end; ++i) passes += memory_passes(ops[i], low);
+    if (passes < min_passes) {
       for (std::size_t i = start; i < end; ++i) runs.push_back({i, i + 1, 0});
     } else {
       // Pad with the lowest free qubits: longer contiguous runs to copy, and in place when L = {0..m-1}.

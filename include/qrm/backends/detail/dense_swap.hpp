@@ -84,6 +84,58 @@ __attribute__((target("avx512f"))) inline void swap_blocks_avx512(std::uint32_t*
 }
 #endif
 
+// X on blocks wider than a vector: `runs` runs of `run` elements (the first at index
+// free | fixed_value, the next ones stepped over the fixed bits as runs_in_range steps), each
+// exchanged with the run `dist` bytes above it where `pattern` is all ones (32-bit lanes,
+// repeating every pattern_lanes, a power of two >= the vector's lanes): controls on the lowest
+// qubits become a lane mask instead of splitting the runs into pieces as short as one amplitude
+// (a complex<float> C^2 X on qubits 1, 2 -> 5 at n = 24 took 2.6x a full pass that way).
+struct masked_swap_job {
+  char* base;
+  std::uint64_t free, fixed, fixed_value, run, runs, element_bytes, dist;
+  const std::uint32_t* pattern;
+  std::uint64_t pattern_lanes;
+};
+
+template <class V>
+[[gnu::always_inline]] inline void swap_runs_masked(const masked_swap_job& job) {
+  constexpr unsigned per = sizeof(V) / 4;
+  const std::uint64_t lanes = job.run * job.element_bytes / 4, dist = job.dist / 4, wrap = job.pattern_lanes - 1;
+  std::uint64_t free = job.free;
+  for (std::uint64_t r = 0; r < job.runs; ++r) {
+    auto* p = reinterpret_cast<std::uint32_t*>(job.base + (free | job.fixed_value) * job.element_bytes);
+    for (std::uint64_t j = 0; j < lanes; j += per) {
+      if (j % 16 == 0) {  // both streams, one line at a time, 8 KiB ahead (as for_each_pair does)
+        prefetch_for_write(p, j + 2048);
+        prefetch_for_write(p, j + dist + 2048);
+      }
+      V x, y, m;
+      std::memcpy(&x, p + j, sizeof(V));
+      std::memcpy(&y, p + j + dist, sizeof(V));
+      std::memcpy(&m, job.pattern + (j & wrap), sizeof(V));
+      const V d = (x ^ y) & m;
+      x ^= d;
+      y ^= d;
+      std::memcpy(p + j, &x, sizeof(V));
+      std::memcpy(p + j + dist, &y, sizeof(V));
+    }
+    free = ((free | job.fixed) + job.run) & ~job.fixed;
+  }
+}
+
+template <int = 0>
+inline void swap_runs_masked_generic(const masked_swap_job& job) {
+  swap_runs_masked<v4u32>(job);
+}
+#ifdef QRM_HAS_CPU_DISPATCH
+__attribute__((target("avx2"))) inline void swap_runs_masked_avx2(const masked_swap_job& job) {
+  swap_runs_masked<v8u32>(job);
+}
+__attribute__((target("avx512f"))) inline void swap_runs_masked_avx512(const masked_swap_job& job) {
+  swap_runs_masked<v16u32>(job);
+}
+#endif
+
 // The widest vector (in bytes) swap_blocks runs with at `level` (resolved, never automatic).
 template <int = 0>
 inline unsigned swap_vector_bytes(simd_level level) {
@@ -102,6 +154,17 @@ inline void swap_adjacent_blocks(void* p, std::uint64_t bytes, std::uint64_t blo
   (void)level;
 #endif
   swap_blocks_generic(w, bytes / 4, block_bytes / 4);
+}
+
+template <int = 0>
+inline void swap_runs_masked(const masked_swap_job& job, simd_level level) {
+#ifdef QRM_HAS_CPU_DISPATCH
+  if (level == simd_level::avx512) return swap_runs_masked_avx512(job);
+  if (level == simd_level::avx2) return swap_runs_masked_avx2(job);
+#else
+  (void)level;
+#endif
+  swap_runs_masked_generic(job);
 }
 
 }  // namespace qrm::detail

@@ -1,0 +1,218 @@
+// qrm/backends/detail/dense_lanes.hpp: small matrices with a target inside the vector.
+//
+// dense_batched.hpp puts N neighbouring bases in one register, which needs the lowest log2(N)
+// qubits free; a fused 8x8 block with a target there (qubit 0, 1 or 2 for complex<float> in
+// float arithmetic at AVX-512) gathered its bases four at a time and ran at 2-3x the time of
+// the same block higher up (random 24-qubit suite: 13 such blocks, 0.17 s of 0.66 s). Here the register
+// holds the amplitudes as they lie in memory, the low targets included: a matrix on targets T
+// splits into its high targets H (vector columns, as in dense_batched) and low targets L (lanes).
+// Output lane l of vector row h gets, for every vector column c and every subset P of L's bits,
+// coefficient(h, c, P)[l] times lane l ^ P of column c: the 2^|L| lane permutations of each
+// column are fixed shuffles, and the coefficients are vectors, one value per lane (the matrix
+// entry that lane's row and column select). The products per amplitude are those of the dense
+// form: a 2^k-entry row for every output.
+#pragma once
+
+#include <array>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <span>
+#include <stdexcept>
+#include <utility>
+
+#include "dense_batched.hpp"
+
+namespace qrm::detail {
+
+// What lane_mix_body needs: columns' offsets, the lane permutations, and coefficient vectors
+// coef_re/coef_im[(row * dim + t) * 2N + lane] for term t = column * patterns + pattern.
+template <class A>
+struct lane_mix_job {
+  std::array<std::uint64_t, 8> offset{};  // vector column c at base + offset[c]
+  std::array<unsigned, 8> lane_xor{};     // the permutations: lane l reads lane l ^ lane_xor[pattern]
+  unsigned columns = 1, patterns = 1;     // dim = columns * patterns
+  bool real = false;                      // coef_im all zero
+  const A* coef_re = nullptr;
+  const A* coef_im = nullptr;
+  void* amplitudes = nullptr;
+};
+
+// out = v with complex lane l taken from lane l ^ X (each complex is two neighbouring values).
+// Vectors by reference: a vector returned by value would be passed in registers its caller's
+// ISA may lack (-Wpsabi).
+template <unsigned X, class V, std::size_t... I>
+[[gnu::always_inline]] inline void xor_complex_lanes(const V& v, V& out, std::index_sequence<I...>) {
+  out = __builtin_shufflevector(v, v, static_cast<int>((((I / 2) ^ X) * 2) + I % 2)...);
+}
+
+template <class V, std::size_t... I>
+[[gnu::always_inline]] inline void swap_real_imaginary(const V& v, V& out, std::index_sequence<I...>) {
+  out = __builtin_shufflevector(v, v, static_cast<int>(I ^ 1)...);
+}
+
+// The bases that are members [k0, k1) of s (runs of at least N: the low targets are not in s).
+// The subsets of `mask`'s bits, in increasing order of the subset's index.
+template <unsigned Mask>
+constexpr std::array<unsigned, (1u << std::popcount(Mask))> subsets_of() {
+  std::array<unsigned, (1u << std::popcount(Mask))> r{};
+  for (unsigned q = 0; q < r.size(); ++q)
+    for (unsigned i = 0; i < std::popcount(Mask); ++i)
+      if ((q >> i) & 1u) r[q] |= 1u << nth_bit(Mask, i);
+  return r;
+}
+
+template <class S, class A, unsigned N, unsigned LowMask, std::size_t... Q>
+[[gnu::always_inline]] inline void permute_all(const typename lanes<A, N>::type& w, typename lanes<A, N>::type* x,
+                                               std::index_sequence<Q...>) {
+  constexpr auto patterns = subsets_of<LowMask>();
+  (xor_complex_lanes<patterns[Q]>(w, x[Q], std::make_index_sequence<2 * N>{}), ...);
+}
+
+template <class S, class A, unsigned N, unsigned LowMask, bool RealMatrix>
+[[gnu::always_inline]] inline void lane_mix_body(const lane_mix_job<A>& job, const subspace& s, std::uint64_t k0,
+                                                 std::uint64_t k1) {
+  using R = typename scalar_traits<S>::real;
+  using vec = typename lanes<A, N>::type;
+  using stored = typename lanes<R, N>::type;
+  R* p = static_cast<R*>(job.amplitudes);
+  constexpr unsigned Patterns = 1u << std::popcount(LowMask), Columns = 8 / Patterns, dim = 8;
+  vec x[dim];
+  vec sign;
+  for (unsigned l = 0; l < 2 * N; ++l) sign[l] = (l % 2 == 0) ? -1.0 : 1.0;
+  const std::uint64_t run = s.npos ? (std::uint64_t{1} << s.pos[0]) : s.count();
+  const std::uint64_t fixed = s.fixed_mask;
+  std::uint64_t free = s.index(k0) & ~fixed;
+  for (std::uint64_t k = k0; k < k1;) {
+    const std::uint64_t first = free | s.fixed_value;
+    const std::uint64_t len = std::min(run, k1 - k);
+    for (std::uint64_t b = first; b < first + len; b += N) {
+      for (unsigned c = 0; c < Columns; ++c) {
+        if ((b & (64 / sizeof(S) - 1)) == 0) prefetch_for_write(p, 2 * (b + job.offset[c]) + 8192 / sizeof(R));
+        stored v;
+        std::memcpy(&v, p + 2 * (b + job.offset[c]), sizeof v);
+        vec w;
+        if constexpr (std::is_same_v<R, A>)
+          w = v;
+        else
+          w = __builtin_convertvector(v, vec);
+        permute_all<S, A, N, LowMask>(w, x + c * Patterns, std::make_index_sequence<Patterns>{});
+      }
+      for (unsigned r = 0; r < Columns; ++r) {
+        vec acc = {}, acc_im = {};
+        const A* cr = job.coef_re + std::size_t{r} * dim * 2 * N;
+        const A* ci = job.coef_im + std::size_t{r} * dim * 2 * N;
+        for (unsigned t = 0; t < dim; ++t) {
+          vec cre, cim;
+          std::memcpy(&cre, cr + t * 2 * N, sizeof cre);
+          acc += cre * x[t];
+          if constexpr (!RealMatrix) {
+            std::memcpy(&cim, ci + t * 2 * N, sizeof cim);
+            acc_im += cim * x[t];
+          }
+        }
+        if constexpr (!RealMatrix) {
+          vec swapped;
+          swap_real_imaginary(acc_im, swapped, std::make_index_sequence<2 * N>{});
+          acc += swapped * sign;  // + i * acc_im
+        }
+        stored out;
+        if constexpr (std::is_same_v<R, A>)
+          out = acc;
+        else
+          out = __builtin_convertvector(acc, stored);
+        std::memcpy(p + 2 * (b + job.offset[r]), &out, sizeof out);
+      }
+    }
+    k += len;
+    free = ((free | fixed) + len) & ~fixed;
+  }
+}
+
+#ifdef QRM_HAS_CPU_DISPATCH
+template <class S, class A, unsigned N, unsigned LowMask>
+__attribute__((target("avx512f"))) void lane_mix_avx512(const lane_mix_job<A>& job, const subspace& s,
+                                                        std::uint64_t k0, std::uint64_t k1) {
+  if (job.real)
+    lane_mix_body<S, A, N, LowMask, true>(job, s, k0, k1);
+  else
+    lane_mix_body<S, A, N, LowMask, false>(job, s, k0, k1);
+}
+
+// Applies an 8x8 m on `targets` to the bases of `s` (controls and the targets at or above
+// log2(N) fixed; no control below log2(N)), N complex numbers of type A per 512-bit register,
+// the targets below log2(N) as lanes; `chunks(g)` calls g(k0, k1) over s. Compiled for 8x8
+// matrices only, with fixed trip counts and permutations (with run-time ones the inputs stayed
+// in memory and the form lost to the gathered bases): fused blocks are 8x8 unless a circuit has
+// fewer qubits to fuse.
+template <class S, class A, unsigned N, class Chunks>
+void lane_mix(S* a, const dense_matrix& m, std::span<const qubit_index> targets, const subspace& s, Chunks&& chunks) {
+  static_assert(2 * N * sizeof(A) == 64);
+  constexpr unsigned lane_bits = std::countr_zero(N);
+  std::array<qubit_index, 8> low{}, high{};
+  std::array<unsigned, 8> low_at{}, high_at{};  // the matrix index bit of each
+  unsigned nl = 0, nh = 0;
+  for (unsigned j = 0; j < targets.size(); ++j) {
+    if (targets[j] < lane_bits) low[nl] = targets[j], low_at[nl++] = j;
+    else high[nh] = targets[j], high_at[nh++] = j;
+  }
+  for (unsigned i = 1; i < nl; ++i)  // increasing qubits, the order subsets_of enumerates
+    for (unsigned j = i; j > 0 && low[j - 1] > low[j]; --j) {
+      std::swap(low[j - 1], low[j]);
+      std::swap(low_at[j - 1], low_at[j]);
+    }
+  lane_mix_job<A> job;
+  job.columns = 1u << nh;
+  job.patterns = 1u << nl;
+  job.amplitudes = a;
+  job.real = m.is_real();
+  for (unsigned c = 0; c < job.columns; ++c)
+    for (unsigned i = 0; i < nh; ++i)
+      if ((c >> i) & 1u) job.offset[c] |= std::uint64_t{1} << high[i];
+  for (unsigned q = 0; q < job.patterns; ++q)
+    for (unsigned i = 0; i < nl; ++i)
+      if ((q >> i) & 1u) job.lane_xor[q] |= 1u << low[i];
+  auto matrix_index = [&](unsigned column, unsigned lane) {
+    std::size_t at = 0;
+    for (unsigned i = 0; i < nh; ++i) at |= std::size_t{(column >> i) & 1u} << high_at[i];
+    for (unsigned i = 0; i < nl; ++i) at |= std::size_t{(lane >> low[i]) & 1u} << low_at[i];
+    return at;
+  };
+  const unsigned dim = job.columns * job.patterns;
+  std::array<A, 8 * 8 * 2 * N> re{}, im{};
+  for (unsigned r = 0; r < job.columns; ++r)
+    for (unsigned t = 0; t < dim; ++t)
+      for (unsigned l = 0; l < N; ++l) {
+        const unsigned c = t / job.patterns, q = t % job.patterns;
+        const complex z = m(matrix_index(r, l), matrix_index(c, l ^ job.lane_xor[q]));
+        const std::size_t at = (std::size_t{r} * dim + t) * 2 * N + 2 * l;
+        re[at] = re[at + 1] = static_cast<A>(z.real());
+        im[at] = im[at + 1] = static_cast<A>(z.imag());
+      }
+  job.coef_re = re.data();
+  job.coef_im = im.data();
+  unsigned low_mask = 0;
+  for (unsigned i = 0; i < nl; ++i) low_mask |= 1u << low[i];
+  chunks([&](std::uint64_t k0, std::uint64_t k1) {
+    switch (low_mask) {
+      case 1: return lane_mix_avx512<S, A, N, 1>(job, s, k0, k1);
+      case 2: return lane_mix_avx512<S, A, N, 2>(job, s, k0, k1);
+      case 3: return lane_mix_avx512<S, A, N, 3>(job, s, k0, k1);
+      default: break;
+    }
+    if constexpr (N == 8) {
+      switch (low_mask) {
+        case 4: return lane_mix_avx512<S, A, N, 4>(job, s, k0, k1);
+        case 5: return lane_mix_avx512<S, A, N, 5>(job, s, k0, k1);
+        case 6: return lane_mix_avx512<S, A, N, 6>(job, s, k0, k1);
+        case 7: return lane_mix_avx512<S, A, N, 7>(job, s, k0, k1);
+        default: break;
+      }
+    }
+    throw std::logic_error("lane_mix: no target among the lanes");
+  });
+}
+#endif
+
+}  // namespace qrm::detail
