@@ -64,4 +64,25 @@ struct subspace {
   }
 };
 
+// The runs of the members [k0, k1) of a subspace, in order (k0 aligned to a run or to
+// chunk_members): first() is a run's first index, length() its length. next() steps to the
+// following run by adding to the free bits only (the fixed bits set to 1 so the carry passes
+// over them): three operations instead of index()'s loop over every fixed bit, which dominated
+// scattered walks (C^12 X with low controls at n = 26 on an Intel Xeon VM: 330 -> 131 us).
+// Inlined into the kernels of every instruction set (it holds no vector code).
+struct run_cursor {
+  std::uint64_t fixed, value, run, free, left;
+  [[gnu::always_inline]] run_cursor(const subspace& s, std::uint64_t k0, std::uint64_t k1)
+      : fixed(s.fixed_mask), value(s.fixed_value), run(std::uint64_t{1} << s.run_log2()),
+        free(s.index(k0) & ~s.fixed_mask), left(k1 - k0) {}
+  [[gnu::always_inline]] bool done() const { return left == 0; }
+  [[gnu::always_inline]] std::uint64_t first() const { return free | value; }
+  [[gnu::always_inline]] std::uint64_t length() const { return run < left ? run : left; }
+  [[gnu::always_inline]] void next() {
+    const std::uint64_t len = length();
+    free = ((free | fixed) + len) & ~fixed;
+    left -= len;
+  }
+};
+
 }  // namespace qrm::detail

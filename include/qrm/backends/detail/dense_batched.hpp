@@ -265,12 +265,8 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
   vec sign;
   for (unsigned l = 0; l < 2 * N; ++l) sign[l] = (l % 2 == 0) ? -1.0 : 1.0;
 
-  const std::uint64_t run = s.npos ? (std::uint64_t{1} << s.pos[0]) : s.count();
-  const std::uint64_t fixed = s.fixed_mask;
-  std::uint64_t free = s.index(k0) & ~fixed;
-  for (std::uint64_t k = k0; k < k1;) {
-    const std::uint64_t first = free | s.fixed_value;
-    const std::uint64_t len = std::min(run, k1 - k);
+  for (run_cursor runs(s, k0, k1); !runs.done(); runs.next()) {
+    const std::uint64_t first = runs.first(), len = runs.length();
     for (std::uint64_t b = first; b < first + len; b += Contiguous ? N : 1) {
       // Each column is its own stream, and streams 2^t apart that jump every 2^t amplitudes
       // defeat the hardware prefetcher (see for_each_pair): fetch each one's line 8 KiB ahead
@@ -357,8 +353,6 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
         }
       }
     }
-    k += len;
-    free = ((free | fixed) + len) & ~fixed;
   }
 }
 

@@ -81,12 +81,8 @@ template <class S, class A, unsigned N, unsigned LowMask, bool RealMatrix>
   vec x[dim];
   vec sign;
   for (unsigned l = 0; l < 2 * N; ++l) sign[l] = (l % 2 == 0) ? -1.0 : 1.0;
-  const std::uint64_t run = s.npos ? (std::uint64_t{1} << s.pos[0]) : s.count();
-  const std::uint64_t fixed = s.fixed_mask;
-  std::uint64_t free = s.index(k0) & ~fixed;
-  for (std::uint64_t k = k0; k < k1;) {
-    const std::uint64_t first = free | s.fixed_value;
-    const std::uint64_t len = std::min(run, k1 - k);
+  for (run_cursor runs(s, k0, k1); !runs.done(); runs.next()) {
+    const std::uint64_t first = runs.first(), len = runs.length();
     for (std::uint64_t b = first; b < first + len; b += N) {
       for (unsigned c = 0; c < Columns; ++c) {
         if ((b & (64 / sizeof(S) - 1)) == 0) prefetch_for_write(p, 2 * (b + job.offset[c]) + 8192 / sizeof(R));
@@ -125,8 +121,6 @@ template <class S, class A, unsigned N, unsigned LowMask, bool RealMatrix>
         std::memcpy(p + 2 * (b + job.offset[r]), &out, sizeof out);
       }
     }
-    k += len;
-    free = ((free | fixed) + len) & ~fixed;
   }
 }
 

@@ -84,15 +84,15 @@ __attribute__((target("avx512f"))) inline void swap_blocks_avx512(std::uint32_t*
 }
 #endif
 
-// X on blocks wider than a vector: `runs` runs of `run` elements (the first at index
-// free | fixed_value, the next ones stepped over the fixed bits as runs_in_range steps), each
+// X on blocks wider than a vector: each run of `runs` (a subspace's members, see run_cursor)
 // exchanged with the run `dist` bytes above it where `pattern` is all ones (32-bit lanes,
 // repeating every pattern_lanes, a power of two >= the vector's lanes): controls on the lowest
 // qubits become a lane mask instead of splitting the runs into pieces as short as one amplitude
-// (a complex<float> C^2 X on qubits 1, 2 -> 5 at n = 24 took 2.6x a full pass that way).
+// (a complex<float> C^2 X on qubits 1, 2 -> 6 at n = 24 took 2.6x a full pass that way).
 struct masked_swap_job {
   char* base;
-  std::uint64_t free, fixed, fixed_value, run, runs, element_bytes, dist;
+  run_cursor runs;
+  std::uint64_t element_bytes, dist;
   const std::uint32_t* pattern;
   std::uint64_t pattern_lanes;
 };
@@ -100,10 +100,10 @@ struct masked_swap_job {
 template <class V>
 [[gnu::always_inline]] inline void swap_runs_masked(const masked_swap_job& job) {
   constexpr unsigned per = sizeof(V) / 4;
-  const std::uint64_t lanes = job.run * job.element_bytes / 4, dist = job.dist / 4, wrap = job.pattern_lanes - 1;
-  std::uint64_t free = job.free;
-  for (std::uint64_t r = 0; r < job.runs; ++r) {
-    auto* p = reinterpret_cast<std::uint32_t*>(job.base + (free | job.fixed_value) * job.element_bytes);
+  const std::uint64_t dist = job.dist / 4, wrap = job.pattern_lanes - 1;
+  for (run_cursor runs = job.runs; !runs.done(); runs.next()) {
+    auto* p = reinterpret_cast<std::uint32_t*>(job.base + runs.first() * job.element_bytes);
+    const std::uint64_t lanes = runs.length() * job.element_bytes / 4;
     for (std::uint64_t j = 0; j < lanes; j += per) {
       if (j % 16 == 0) {  // both streams, one line at a time, 8 KiB ahead (as for_each_pair does)
         prefetch_for_write(p, j + 2048);
@@ -119,7 +119,6 @@ template <class V>
       std::memcpy(p + j, &x, sizeof(V));
       std::memcpy(p + j + dist, &y, sizeof(V));
     }
-    free = ((free | job.fixed) + job.run) & ~job.fixed;
   }
 }
 
