@@ -1,7 +1,9 @@
 // The kernel tests (kernel_cases.hpp) on the dense backend, every amplitude type, plus the
 // dense backend's threading.
 #include <algorithm>
+#include <cmath>
 #include <complex>
+#include <limits>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -95,6 +97,15 @@ TEST_CASE("runs are chunked when their ops would make at least chunk_min_passes 
   const any block{qrm::op::unitary_op{m, {0, 1, 2}, {}}};
   CHECK_FALSE(chunked(std::vector<any>(10, block)));
   CHECK(qrm::detail::plan_runs(std::vector<any>(10, block), n, 10, 4, 0).size() == 1);  // threshold 0: chunked
+  // A count that is no number of passes is refused, not read as "chunk everything".
+  qrm::state_vector<double> psi(4);
+  for (double bad : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()})
+    CHECK_THROWS_WITH_AS(psi.set_chunk_min_passes(bad), doctest::Contains("chunk_min_passes must be a finite number"),
+                         std::invalid_argument);
+  qrm::dense_options o;
+  o.chunk_min_passes = -2;
+  CHECK_THROWS_AS(qrm::state_vector<double>(4, o), std::invalid_argument);
+  psi.set_chunk_min_passes(0);
 }
 
 // qrm::run on the dense backend applies runs of ops whose moving qubits fit a chunk chunk by

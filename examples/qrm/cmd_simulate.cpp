@@ -72,6 +72,7 @@ struct run_settings {
   qrm::simd_level simd = qrm::simd_level::automatic;
   qrm::float_math math = qrm::float_math::double_precision;
   std::uint64_t chunk_bytes = 0;  // dense backend: runs of ops applied chunk by chunk (0: op by op)
+  double chunk_min_passes = qrm::dense_options{}.chunk_min_passes;  // ... when they make this many passes
   std::string state_out;  // empty: do not write the state
 };
 
@@ -129,6 +130,7 @@ simulation simulate(const qrm::program& program, const qrm::program* plain, cons
   o.simd = rs.simd;
   o.math = rs.math;
   o.chunk_bytes = rs.chunk_bytes;
+  o.chunk_min_passes = rs.chunk_min_passes;
   return simulate_on<S, qrm::state_vector<S>>(program, plain, rs, [&](std::size_t n) { return qrm::state_vector<S>(n, o); });
 }
 
@@ -168,6 +170,10 @@ flag_table simulate_flags() {
       {"chunk", "KIB|off", "1024",
        "dense backend: runs of ops whose qubits fit a chunk of KIB KiB are applied chunk by chunk, one pass over "
        "memory per run (about the L2 cache; off: every op its own pass)",
+       run},
+      {"chunk-passes", "P", "6",
+       "dense backend: chunk a run only when its ops would make at least P passes over memory one by one (0: every "
+       "run that fits a chunk)",
        run},
       {"repeat", "R", "3", "runs of the circuit; the fastest is reported", run},
       {"compare", "", "", "also run without fusion: both times and the largest amplitude difference", run},
@@ -225,6 +231,11 @@ int cmd_simulate(args& a) {
     chunk_kib = std::stoull(chunk_arg);
   }
   if (compact && a.has("chunk")) throw usage_error("--chunk applies to --backend dense");
+  const double chunk_passes = a.number("chunk-passes", qrm::dense_options{}.chunk_min_passes);
+  if (chunk_passes < 0 || chunk_passes > 1000)
+    throw usage_error("--chunk-passes must be a number of passes from 0 to 1000, got '" + a.str("chunk-passes", "") + "'");
+  if (compact && a.has("chunk-passes")) throw usage_error("--chunk-passes applies to --backend dense");
+  if (chunk_kib == 0 && a.has("chunk-passes")) throw usage_error("--chunk-passes needs chunks; it does nothing with --chunk off");
   const char* simd_used = qrm::simd_level_name(qrm::detail::resolve_simd(simd));
   const std::string format = a.str("format", "json");
   if (format != "json" && format != "text") throw usage_error("--format must be json or text, got '" + format + "'");
@@ -272,6 +283,7 @@ int cmd_simulate(args& a) {
   rs.simd = simd;
   rs.math = arithmetic == "float" ? qrm::float_math::single_precision : qrm::float_math::double_precision;
   rs.chunk_bytes = chunk_kib << 10;
+  rs.chunk_min_passes = chunk_passes;
   rs.state_out = state_out;
   const simulation sim = simulate_scalar(scalar, fuse_width ? fused : p, compare ? &p : nullptr, rs);
   const timed_run& main_run = sim.run;
@@ -302,7 +314,7 @@ int cmd_simulate(args& a) {
   if (!compact) j.add("simd", simd_used);
   if (!compact) {
     if (chunk_kib)
-      j.add("chunk_kib", chunk_kib);
+      j.add("chunk_kib", chunk_kib).add("chunk_min_passes", chunk_passes);
     else
       j.add("chunk_kib", "off");
   }

@@ -150,17 +150,21 @@ def main():
         if j["fused_ops"] >= j["gates"]:
             failures.append("random suite, %s: fusion left %d ops of %d gates" % (backend, j["fused_ops"], j["gates"]))
         states[backend] = read_state(out, "complex-double")
-    # --chunk 1: 64-128 amplitudes per chunk of a 12-qubit state, so runs of ops go chunk by chunk.
+    # --chunk 1 --chunk-passes 0: 64-128 amplitudes per chunk of a 12-qubit state, and every run
+    # that fits is chunked (the default rule leaves cheap runs op by op).
     for scalar, tolerance in (("complex-double", 1e-12), ("complex-float", 1e-5)):
         for fuse in ("off", "3"):
             chunked = {}
             for chunk in ("off", "1"):
                 out = os.path.join(work, "chunk_%s.bin" % chunk)
+                passes = ["--chunk-passes", "0"] if chunk != "off" else []
                 r = run(qrm, ["--random", "12", "--gates", "200", "--seed", "5", "--scalar", scalar, "--fuse", fuse,
-                              "--chunk", chunk, "--threads", "2", "--repeat", "1", "--state-out", out])
-                reported = json.loads(r.stdout).get("chunk_kib")
-                if reported != (1 if chunk == "1" else "off"):
-                    failures.append("--chunk %s: the JSON says chunk_kib %r" % (chunk, reported))
+                              "--chunk", chunk, "--threads", "2", "--repeat", "1", "--state-out", out] + passes)
+                reported = json.loads(r.stdout)
+                if reported.get("chunk_kib") != (1 if chunk == "1" else "off"):
+                    failures.append("--chunk %s: the JSON says chunk_kib %r" % (chunk, reported.get("chunk_kib")))
+                if chunk != "off" and reported.get("chunk_min_passes") != 0:
+                    failures.append("--chunk-passes 0: the JSON says chunk_min_passes %r" % reported.get("chunk_min_passes"))
                 chunked[chunk] = read_state(out, scalar)
             worst = max(abs(a - b) for a, b in zip(chunked["off"], chunked["1"]))
             if worst > tolerance:
@@ -194,6 +198,10 @@ def main():
         (["--random", "10", "--chunk", "0"], "--chunk must be a size in KiB from 1 to 1048576, or off, got '0'"),
         (["--random", "10", "--chunk", "1M"], "--chunk must be a size in KiB from 1 to 1048576, or off, got '1M'"),
         (["--random", "10", "--backend", "compact", "--chunk", "64"], "--chunk applies to --backend dense"),
+        (["--random", "10", "--chunk-passes", "2000"], "--chunk-passes must be a number of passes from 0 to 1000, got '2000'"),
+        (["--random", "10", "--chunk-passes", "nan"], "--chunk-passes needs a finite number, got 'nan'"),
+        (["--random", "10", "--chunk", "off", "--chunk-passes", "2"], "--chunk-passes needs chunks; it does nothing with --chunk off"),
+        (["--random", "10", "--backend", "compact", "--chunk-passes", "2"], "--chunk-passes applies to --backend dense"),
         (["--random", "10", "--state-out", ""], "--state-out needs a value"),
         (["--random", "35", "--backend", "compact", "--state-out", os.path.join(work, "big.bin")],
          "--state-out writes all 2^35 amplitudes; it is limited to 34 qubits"),

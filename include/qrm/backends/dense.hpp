@@ -112,7 +112,7 @@ class state_vector {
     ex_.simd = opt.simd;
     ex_.math = opt.math;
     chunk_bytes_ = opt.chunk_bytes;
-    chunk_min_passes_ = opt.chunk_min_passes;
+    set_chunk_min_passes(opt.chunk_min_passes);
     try {
       amps_.assign(static_cast<std::size_t>(std::uint64_t{1} << n_), Scalar{});
     } catch (const std::bad_alloc&) {
@@ -201,7 +201,13 @@ class state_vector {
     }
   }
   void set_chunk_bytes(std::uint64_t bytes) { chunk_bytes_ = bytes; }
-  void set_chunk_min_passes(double passes) { chunk_min_passes_ = passes; }
+  void set_chunk_min_passes(double passes) {
+    // A NaN or negative count would chunk every run without saying so.
+    if (!(passes >= 0) || !std::isfinite(passes))
+      throw std::invalid_argument("dense_options::chunk_min_passes must be a finite number >= 0, got " +
+                                  std::to_string(passes));
+    chunk_min_passes_ = passes;
+  }
 
   // ---- reading the state ----------------------------------------------------------------------
 

@@ -161,6 +161,7 @@ struct csr_job {
   const float* ell_re_f = nullptr;
   const float* ell_im_f = nullptr;
   simd_level level = simd_level::generic;  // resolved (never automatic)
+  bool streams = false;                    // the state is larger than a last-level cache (see csr_range_body)
 };
 
 // N complex numbers of type R as one GNU vector (2N lanes). Spelled out per size: g++ ignores a
@@ -270,11 +271,12 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
     for (std::uint64_t b = first; b < first + len; b += Contiguous ? N : 1) {
       // Each column is its own stream, and streams 2^t apart that jump every 2^t amplitudes
       // defeat the hardware prefetcher (see for_each_pair): fetch each one's line 8 KiB ahead
-      // (an 8x8 real matrix on targets 4, 8, 9, n = 24: 7.0 -> 5.1 ms). Not for the offset-set
-      // forms in float arithmetic, whose few products leave no time to hide it (the fused walk:
-      // 0.155 -> 0.170 s with it; in double arithmetic 0.39 -> 0.37 s).
-      if constexpr (Contiguous && (XorSet == 0 || std::is_same_v<A, double>))
-        if ((b & (64 / sizeof(S) - 1)) == 0)
+      // (an 8x8 real matrix on targets 4, 8, 9, n = 24: 7.0 -> 5.1 ms). The offset-set forms in
+      // float arithmetic have too few products to hide it where the state sits in a cache (the
+      // fused 21-qubit walk: 0.155 -> 0.170 s with it), but need it where it streams from memory
+      // (offsets {0, 1, 4, 5} on targets 4, 8, 9, n = 24: 13 ms without, 5.5 ms with).
+      if constexpr (Contiguous)
+        if ((XorSet == 0 || std::is_same_v<A, double> || job.streams) && (b & (64 / sizeof(S) - 1)) == 0)
           for (std::size_t c = 0; c < dim; ++c)
             prefetch_for_write(p, 2 * (b + off[c]) + 8192 / sizeof(R));
       for (std::size_t c = 0; c < dim; ++c) {

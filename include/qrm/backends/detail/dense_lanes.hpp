@@ -1,9 +1,10 @@
 // qrm/backends/detail/dense_lanes.hpp: small matrices with a target inside the vector.
 //
 // dense_batched.hpp puts N neighbouring bases in one register, which needs the lowest log2(N)
-// qubits free; a fused 8x8 block with a target there (qubit 0, 1 or 2 for complex<float> in
-// float arithmetic at AVX-512) gathered its bases four at a time and ran at 2-3x the time of
-// the same block higher up (random 24-qubit suite: 13 such blocks, 0.17 s of 0.66 s). Here the register
+// qubits free; a fused 8x8 block with a target there (qubits 0-2 for complex<float> in float
+// arithmetic at AVX-512, 0-1 in double arithmetic) gathered its bases four at a time and ran at
+// 2-3x the time of the same block higher up (random 24-qubit suite: 13 such blocks, 0.17 s of
+// 0.66 s; complex<double> on targets 0, 2, 6 at n = 24: 52 ms against 15-18 ms). Here the register
 // holds the amplitudes as they lie in memory, the low targets included: a matrix on targets T
 // splits into its high targets H (vector columns, as in dense_batched) and low targets L (lanes).
 // Output lane l of vector row h gets, for every vector column c and every subset P of L's bits,
@@ -174,7 +175,8 @@ void lane_mix(S* a, const dense_matrix& m, std::span<const qubit_index> targets,
     return at;
   };
   const unsigned dim = job.columns * job.patterns;
-  std::array<A, 8 * 8 * 2 * N> re{}, im{};
+  // Aligned: a coefficient vector split across two cache lines doubled the kernel's time.
+  alignas(64) std::array<A, 8 * 8 * 2 * N> re{}, im{};
   for (unsigned r = 0; r < job.columns; ++r)
     for (unsigned t = 0; t < dim; ++t)
       for (unsigned l = 0; l < N; ++l) {
