@@ -161,8 +161,12 @@ struct csr_job {
   const float* ell_re_f = nullptr;
   const float* ell_im_f = nullptr;
   simd_level level = simd_level::generic;  // resolved (never automatic)
-  bool streams = false;                    // the state is larger than a last-level cache (see csr_range_body)
+  bool streams = false;                    // the state exceeds streaming_state_bytes (see csr_range_body)
 };
+
+// A state larger than this streams from memory on every pass: a typical last-level cache
+// (32 MiB; chunked runs and the 21-qubit walk in complex<float> stay below it).
+inline constexpr std::uint64_t streaming_state_bytes = std::uint64_t{32} << 20;
 
 // N complex numbers of type R as one GNU vector (2N lanes). Spelled out per size: g++ ignores a
 // vector_size that depends on a template parameter.

@@ -423,10 +423,29 @@ void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qub
   const subspace s(n, cmask | tmask, cvalue);
   if constexpr (scalar_traits<S>::is_complex) {
     if (m.dim <= vector_kernel_max_dim) {
+      const simd_level level = resolve_simd(ex.simd);
+#ifdef QRM_HAS_CPU_DISPATCH
+      // At AVX-512, an 8x8 matrix with a target among the amplitudes a register holds (qubits
+      // 0-2 in float arithmetic, 0-1 in double) and no control there: those targets are lanes
+      // (dense_lanes.hpp, which builds its own coefficients, so before the tables below)
+      // instead of bases gathered four at a time.
+      if (level == simd_level::avx512 && m.dim == 8 && n >= 3) {
+        const bool float_arithmetic =
+            std::is_same_v<S, std::complex<float>> && ex.math == float_math::single_precision;
+        const std::uint64_t lanes = float_arithmetic ? 7 : 3;
+        if ((tmask & lanes) != 0 && (cmask & lanes) == 0) {
+          const subspace bases(n, cmask | (tmask & ~lanes), cvalue);
+          const auto chunks = [&](auto&& g) { for_each_chunk(bases, ex, m.dim, g); };
+          if constexpr (std::is_same_v<S, std::complex<float>>)
+            if (float_arithmetic) return lane_mix<S, float, 8>(a, m, targets, bases, chunks);
+          return lane_mix<S, double, 4>(a, m, targets, bases, chunks);
+        }
+      }
+#endif
       const csr_matrix rows = csr_matrix::of(m);
       csr_job<S> job{&rows, offsets.data(), a};
-      job.level = resolve_simd(ex.simd);
-      job.streams = (std::uint64_t{sizeof(S)} << n) > (std::uint64_t{32} << 20);
+      job.level = level;
+      job.streams = (std::uint64_t{sizeof(S)} << n) > streaming_state_bytes;
       // Dense enough (a quarter of the entries non-zero): every entry, unrolled, beats the
       // row lists' indirection.
       std::vector<double> re, im;
@@ -464,21 +483,6 @@ void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qub
         job.ell_re_f = ell_re_f.data(), job.ell_im_f = ell_im_f.data();
       }
 #ifdef QRM_HAS_CPU_DISPATCH
-      // At AVX-512, an 8x8 matrix with a target among the amplitudes a register holds (qubits
-      // 0-2 in float arithmetic, 0-1 in double) and no control there: those targets are lanes
-      // (dense_lanes.hpp) instead of bases gathered four at a time.
-      if (job.level == simd_level::avx512 && m.dim == 8 && n >= 3) {
-        const bool float_arithmetic =
-            std::is_same_v<S, std::complex<float>> && ex.math == float_math::single_precision;
-        const std::uint64_t lanes = float_arithmetic ? 7 : 3;
-        if ((tmask & lanes) != 0 && (cmask & lanes) == 0) {
-          const subspace bases(n, cmask | (tmask & ~lanes), cvalue);
-          const auto chunks = [&](auto&& g) { for_each_chunk(bases, ex, m.dim, g); };
-          if constexpr (std::is_same_v<S, std::complex<float>>)
-            if (float_arithmetic) return lane_mix<S, float, 8>(a, m, targets, bases, chunks);
-          return lane_mix<S, double, 4>(a, m, targets, bases, chunks);
-        }
-      }
       // Float arithmetic (asked for, and a CPU with AVX2): eight neighbouring bases per 512-bit
       // register where the lowest 3 qubits are free, else four per 256-bit register (neighbours,
       // or gathered as in base_groups); else double below.

@@ -27,13 +27,12 @@
 
 namespace qrm::detail {
 
-// What lane_mix_body needs: columns' offsets, the lane permutations, and coefficient vectors
-// coef_re/coef_im[(row * dim + t) * 2N + lane] for term t = column * patterns + pattern.
+// What lane_mix_body needs: columns' offsets and coefficient vectors
+// coef_re/coef_im[(row * 8 + t) * 2N + lane] for term t = column * patterns + pattern (the
+// columns and lane patterns are compile-time constants of the body).
 template <class A>
 struct lane_mix_job {
   std::array<std::uint64_t, 8> offset{};  // vector column c at base + offset[c]
-  std::array<unsigned, 8> lane_xor{};     // the permutations: lane l reads lane l ^ lane_xor[pattern]
-  unsigned columns = 1, patterns = 1;     // dim = columns * patterns
   bool real = false;                      // coef_im all zero
   const A* coef_re = nullptr;
   const A* coef_im = nullptr;
@@ -157,32 +156,31 @@ void lane_mix(S* a, const dense_matrix& m, std::span<const qubit_index> targets,
       std::swap(low[j - 1], low[j]);
       std::swap(low_at[j - 1], low_at[j]);
     }
+  const unsigned columns = 1u << nh, patterns = 1u << nl;
+  std::array<unsigned, 8> lane_xor{};  // pattern q: lane l reads lane l ^ lane_xor[q]
   lane_mix_job<A> job;
-  job.columns = 1u << nh;
-  job.patterns = 1u << nl;
   job.amplitudes = a;
   job.real = m.is_real();
-  for (unsigned c = 0; c < job.columns; ++c)
+  for (unsigned c = 0; c < columns; ++c)
     for (unsigned i = 0; i < nh; ++i)
       if ((c >> i) & 1u) job.offset[c] |= std::uint64_t{1} << high[i];
-  for (unsigned q = 0; q < job.patterns; ++q)
+  for (unsigned q = 0; q < patterns; ++q)
     for (unsigned i = 0; i < nl; ++i)
-      if ((q >> i) & 1u) job.lane_xor[q] |= 1u << low[i];
+      if ((q >> i) & 1u) lane_xor[q] |= 1u << low[i];
   auto matrix_index = [&](unsigned column, unsigned lane) {
     std::size_t at = 0;
     for (unsigned i = 0; i < nh; ++i) at |= std::size_t{(column >> i) & 1u} << high_at[i];
     for (unsigned i = 0; i < nl; ++i) at |= std::size_t{(lane >> low[i]) & 1u} << low_at[i];
     return at;
   };
-  const unsigned dim = job.columns * job.patterns;
   // Aligned: a coefficient vector split across two cache lines doubled the kernel's time.
   alignas(64) std::array<A, 8 * 8 * 2 * N> re{}, im{};
-  for (unsigned r = 0; r < job.columns; ++r)
-    for (unsigned t = 0; t < dim; ++t)
+  for (unsigned r = 0; r < columns; ++r)
+    for (unsigned t = 0; t < 8; ++t)
       for (unsigned l = 0; l < N; ++l) {
-        const unsigned c = t / job.patterns, q = t % job.patterns;
-        const complex z = m(matrix_index(r, l), matrix_index(c, l ^ job.lane_xor[q]));
-        const std::size_t at = (std::size_t{r} * dim + t) * 2 * N + 2 * l;
+        const unsigned c = t / patterns, q = t % patterns;
+        const complex z = m(matrix_index(r, l), matrix_index(c, l ^ lane_xor[q]));
+        const std::size_t at = (std::size_t{r} * 8 + t) * 2 * N + 2 * l;
         re[at] = re[at + 1] = static_cast<A>(z.real());
         im[at] = im[at + 1] = static_cast<A>(z.imag());
       }
