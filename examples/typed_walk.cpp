@@ -38,12 +38,14 @@ int main() {
     const double dense = probability_out<qrm::state_vector<double>>(a);
     const double compact = probability_out<qrm::compact_state<double>>(a);
 
-    // What the CLI runs: the same gate templates on a layout whose widths come from the scene.
+    // What `qrm lightmap --exact` runs (its default backend, compact, real amplitudes for a real
+    // circuit): the same gate templates on a layout whose widths come from the scene, recorded into
+    // a program. make_walk_program<2> is make_walk_program for a scene known to be 2D.
     qrm::walk_options o;
     o.steps = 3;
     o.prune = prune;
-    const qrm::walk_program w = qrm::make_walk_program(model, start, o);
-    qrm::state_vector<double> state(w.circuit.width());
+    const qrm::walk_program w = qrm::make_walk_program<2>(model, start, o);
+    qrm::compact_state<double> state(w.circuit.width());
     qrm::run(state, w.circuit);
     const qrm::control out{w.out, true};
     const double cli = state.probability(std::span<const qrm::control>(&out, 1));

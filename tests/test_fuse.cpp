@@ -330,6 +330,8 @@ TEST_CASE("8x8 matrices with at most 4 non-zeros per row (fixed-width rows) matc
   struct sparse_case {
     qrm::dense_matrix m;
     unsigned width, offsets;  // expected ell_width and xor_offset_set
+    unsigned blocks = 0;      // expected order_blocks set (checked where offsets_known is false)
+    bool offsets_known = true;
   };
   std::vector<sparse_case> cases;
   for (bool complex_values : {false, true}) {
@@ -350,13 +352,48 @@ TEST_CASE("8x8 matrices with at most 4 non-zeros per row (fixed-width rows) matc
       m(0, qrm::detail::nth_bit(set, w - 1)) = 0;
       cases.push_back({m, w, set});
     }
+    // Direct sums of square blocks (sizes below) with rows and columns each in a scrambled order,
+    // as fused permutations times rotations are: order_blocks puts them in the pair set {0, 1}
+    // (blocks of at most 2) or the quadruple set {0, 1, 4, 5} (at most 4, packed into two groups
+    // of 4 without splitting a block), or finds no order (3 + 3 + 2 does not pack; the last case
+    // is not a direct sum of square blocks: 3 rows share 2 columns).
+    const std::vector<std::pair<std::vector<unsigned>, unsigned>> block_cases = {
+        {{2, 2, 2, 2}, 0x03}, {{1, 2, 1, 2, 2}, 0x03}, {{4, 4}, 0x33}, {{2, 4, 2}, 0x33},
+        {{3, 1, 2, 2}, 0x33}, {{3, 3, 2}, 0},          {{}, 0}};
+    for (const auto& [sizes, expected] : block_cases) {
+      std::array<std::size_t, 8> row_of{0, 1, 2, 3, 4, 5, 6, 7}, col_of = row_of;
+      for (std::size_t i = 7; i > 0; --i) {  // Fisher-Yates, both orders
+        std::swap(row_of[i], row_of[static_cast<std::size_t>(g.uniform() * static_cast<double>(i + 1))]);
+        std::swap(col_of[i], col_of[static_cast<std::size_t>(g.uniform() * static_cast<double>(i + 1))]);
+      }
+      qrm::dense_matrix m(8);
+      unsigned widest = 0;
+      if (sizes.empty()) {
+        for (std::size_t r = 0; r < 3; ++r)
+          for (std::size_t c = 0; c < 2; ++c) m(row_of[r], col_of[c]) = value(complex_values);
+        for (std::size_t r = 3; r < 8; ++r)
+          for (std::size_t c = 2; c < 8; c += 2) m(row_of[r], col_of[c + (r % 2)]) = value(complex_values);
+        widest = 3;
+      }
+      std::size_t at = 0;
+      for (unsigned size : sizes) {
+        for (std::size_t r = at; r < at + size; ++r)
+          for (std::size_t c = at; c < at + size; ++c) m(row_of[r], col_of[c]) = value(complex_values);
+        at += size;
+        widest = std::max(widest, size);
+      }
+      cases.push_back({m, widest <= 2 ? 2u : 4u, 0u, expected, false});
+    }
   }
   int runs = 0;
   const std::vector<std::vector<qubit_index>> placements = {{0, 1, 2}, {3, 4, 5}, {0, 5, 9}, {10, 2, 7}, {8, 9, 10}};
   for (const sparse_case& c : cases) {
     const qrm::detail::csr_matrix rows = qrm::detail::csr_matrix::of(c.m);
     CHECK(qrm::detail::ell_width(rows) == c.width);
-    CHECK(qrm::detail::xor_offset_set(rows) == c.offsets);
+    if (c.offsets_known)
+      CHECK(qrm::detail::xor_offset_set(rows) == c.offsets);
+    else
+      CHECK(qrm::detail::order_blocks(rows).set == c.blocks);
     for (const auto& ts : placements)
       for (const std::vector<qrm::control>& cs : {std::vector<qrm::control>{}, std::vector<qrm::control>{{6, true}}}) {
         const auto start = random_unit_state(n, g);
@@ -371,6 +408,7 @@ TEST_CASE("8x8 matrices with at most 4 non-zeros per row (fixed-width rows) matc
         for (qrm::simd_level level : {qrm::simd_level::generic, qrm::simd_level::avx2, qrm::simd_level::avx512}) {
           CAPTURE(c.width);
           CAPTURE(c.offsets);
+          CAPTURE(c.blocks);
           CAPTURE(c.m.is_real());
           CAPTURE(ts[0]);
           CAPTURE(static_cast<int>(level));
@@ -391,7 +429,7 @@ TEST_CASE("8x8 matrices with at most 4 non-zeros per row (fixed-width rows) matc
         }
       }
   }
-  CHECK(runs == 16 * 5 * 2 * 3);
+  CHECK(runs == (16 + 14) * 5 * 2 * 3);
 }
 
 TEST_CASE("8x8 matrices with targets among the lanes of one register match the reference") {

@@ -100,6 +100,11 @@ void check_static_equals_dynamic(const qrm::walk_model& m, const qrm::walk_start
     // The builder's program is the same with idle qubits removed (plus a qubit for `out` where
     // no term can fire and `out` was idle).
     const qrm::walk_program built = qrm::make_walk_program(m, start, o);
+    // Naming the dimension builds the same program; naming another is refused.
+    const qrm::walk_program known = qrm::make_walk_program<Static::dims>(m, start, o);
+    CHECK(describe(known.circuit) == describe(built.circuit));
+    CHECK(known.out == built.out);
+    CHECK_THROWS_WITH(qrm::make_walk_program<5 - Static::dims>(m, start, o), doctest::Contains("the scene has"));
     if (p == qrm::pruning::none) CHECK(describe(from_type) == describe(built.circuit));
     CHECK(qrm::remove_idle_qubits(from_type).size() == built.circuit.size());
     // The logical depth stays within the compile-time O(s(p^dims + d)) bound.

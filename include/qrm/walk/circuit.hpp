@@ -603,9 +603,12 @@ program record(const C& c) {
 
 // make_walk_program(model, start, options): the A operator for run-time sizes (any scene): the
 // walk's gate templates on a dynamic layout, recorded, then (pruned levels) without idle qubits.
-template <int = 0>
+// make_walk_program<Dims>(...) is the same for a scene known to have Dims dimensions: it compiles
+// one walk instead of both (a 2D-only program need not build the 3D one), and refuses other scenes.
+template <unsigned Dims = 0>
 inline walk_program make_walk_program(const walk_model& m, const walk_start& start, const walk_options& o) {
-  return with_dynamic_walk(m.dims(), [&]<class C>(std::type_identity<C>) {
+  static_assert(Dims == 0 || Dims == 2 || Dims == 3, "make_walk_program<Dims>: Dims is 2 or 3 (0: the scene's)");
+  auto build = [&]<class C>(std::type_identity<C>) {
     const C a(m, start, o);
     walk_program w;
     w.tables = a.tables();
@@ -631,7 +634,15 @@ inline walk_program make_walk_program(const walk_model& m, const walk_start& sta
       w.out = static_cast<qubit_index>(it - kept.begin());
     }
     return w;
-  });
+  };
+  if constexpr (Dims == 0) {
+    return with_dynamic_walk(m.dims(), build);
+  } else {
+    if (m.dims() != Dims)
+      throw std::invalid_argument("make_walk_program<" + std::to_string(Dims) + ">: the scene has " +
+                                  std::to_string(m.dims()) + " dimensions");
+    return build(std::type_identity<walk_circuit<dynamic_walk_shape<Dims>>>{});
+  }
 }
 
 // probability_out(backend, w): run w's circuit on a fresh backend and read P(out = 1).

@@ -20,6 +20,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <vector>
 
@@ -236,6 +237,33 @@ struct chunk_sink {
   }
 };
 
+// Copies `count` amplitudes in 128-byte pieces, each a memcpy of constant size (inlined as vector
+// moves), when count fills whole pieces; std::copy_n called memmove once per copied run, and runs
+// are often just 128 bytes (chunk_low_qubits): 38% of a chunked fused run's time went there.
+template <class S>
+inline void copy_run(const S* from, std::uint64_t count, S* to) {
+  constexpr std::uint64_t piece = 128 / sizeof(S);
+  if (count % piece != 0) {
+    std::copy_n(from, count, to);
+    return;
+  }
+  for (std::uint64_t i = 0; i < count; i += piece) std::memcpy(static_cast<void*>(to + i), from + i, 128);
+}
+
+// The copied runs lie 2^q apart for the chunk's upper qubits q, a pattern the hardware prefetcher
+// does not follow: fetch the run `copy_ahead` places on.
+inline constexpr std::uint64_t copy_ahead = 16;
+template <class S>
+inline void prefetch_lines(const S* p, std::uint64_t count, bool for_write) {
+  const char* c = reinterpret_cast<const char*>(p);
+  for (std::uint64_t b = 0; b < count * sizeof(S); b += 64) {
+    if (for_write)
+      __builtin_prefetch(c + b, 1);
+    else
+      __builtin_prefetch(c + b, 0);
+  }
+}
+
 // Applies ops (validated) chunk by chunk over the qubits of `local` (m of the state's n).
 template <class S>
 void run_in_chunks(S* a, unsigned n, std::span<const op::any> ops, std::uint64_t local, const exec_policy& ex) {
@@ -268,12 +296,18 @@ void run_in_chunks(S* a, unsigned n, std::span<const op::any> ops, std::uint64_t
     if (!in_place) {
       if (buffer.size() < (std::size_t{1} << m)) buffer.resize(std::size_t{1} << m);
       chunk = buffer.data();
-      for (std::uint64_t r = 0; r < runs; ++r) std::copy_n(a + base + run_offset[r], run_len, chunk + (r << low));
+      for (std::uint64_t r = 0; r < runs; ++r) {
+        if (r + copy_ahead < runs) prefetch_lines(a + base + run_offset[r + copy_ahead], run_len, false);
+        copy_run(a + base + run_offset[r], run_len, chunk + (r << low));
+      }
     }
     chunk_sink<S> sink{chunk, m, &local_of, base, one};
     for (const op::any& o : ops) emit_op(o, sink);
     if (!in_place)
-      for (std::uint64_t r = 0; r < runs; ++r) std::copy_n(chunk + (r << low), run_len, a + base + run_offset[r]);
+      for (std::uint64_t r = 0; r < runs; ++r) {
+        if (r + copy_ahead < runs) prefetch_lines(a + base + run_offset[r + copy_ahead], run_len, true);
+        copy_run(chunk + (r << low), run_len, a + base + run_offset[r]);
+      }
   };
   if (ex.threads <= 1 || chunks < 2) {
     for (std::uint64_t c = 0; c < chunks; ++c) do_chunk(c);

@@ -442,15 +442,35 @@ void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qub
         }
       }
 #endif
-      const csr_matrix rows = csr_matrix::of(m);
-      csr_job<S> job{&rows, offsets.data(), a};
+      csr_matrix rows = csr_matrix::of(m);
+      // A block structure in no offset set (or only in {0, 1, 4, 5} with blocks of two) is put in
+      // the order that makes it one (see block_order); `mat` is the matrix in the order applied.
+      const dense_matrix* mat = &m;
+      dense_matrix reordered;
+      std::array<std::uint64_t, 8> store_at{}, load_from{};
+      const unsigned direct_set = ell_width(rows) ? xor_offset_set(rows) : 0;
+      if (ell_width(rows) && (direct_set == 0 || std::popcount(direct_set) > 2)) {
+        const block_order bo = order_blocks(rows);
+        if (bo.set && (direct_set == 0 || std::popcount(bo.set) < std::popcount(direct_set))) {
+          reordered = dense_matrix(8);
+          for (std::size_t i = 0; i < 8; ++i) {
+            for (std::size_t j = 0; j < 8; ++j) reordered(i, j) = m(bo.row[i], bo.col[j]);
+            store_at[i] = offsets[bo.row[i]];
+            load_from[i] = offsets[bo.col[i]];
+          }
+          rows = csr_matrix::of(reordered);
+          mat = &reordered;
+        }
+      }
+      csr_job<S> job{&rows, mat == &m ? offsets.data() : store_at.data(), a};
+      if (mat != &m) job.load_offsets = load_from.data();
       job.level = level;
       job.streams = (std::uint64_t{sizeof(S)} << n) > streaming_state_bytes;
       // Dense enough (a quarter of the entries non-zero): every entry, unrolled, beats the
       // row lists' indirection.
       std::vector<double> re, im;
       if (rows.col.size() * 4 >= m.dim * m.dim && m.dim <= 16) {
-        for (const complex& z : m.data) {
+        for (const complex& z : mat->data) {
           re.push_back(z.real());
           im.push_back(z.imag());
         }
@@ -470,7 +490,7 @@ void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qub
             const std::uint32_t at_row = rows.row_start[r] + e;
             const bool listed = at_row < rows.row_start[r + 1];
             const std::size_t c = set ? r ^ nth_bit(set, e) : listed ? rows.col[at_row] : 0;
-            const complex z = set || listed ? m(r, c) : complex{};
+            const complex z = set || listed ? (*mat)(r, c) : complex{};
             const std::size_t at = r * w + e;
             ell_col[at] = static_cast<std::uint8_t>(c);
             ell_re[at] = z.real(), ell_im[at] = z.imag();
