@@ -579,13 +579,21 @@ struct walk_program {
   std::size_t full_width = 0;
 };
 
-// with_dynamic_walk(dims, f): f(std::type_identity<walk_circuit<dynamic_walk_shape<D>>>) for the
-// run-time dims.
-template <class F>
+// with_dynamic_walk<Only>(dims, f): f(std::type_identity<walk_circuit<dynamic_walk_shape<D>>>) for
+// the run-time dims D; Only = 2 or 3 compiles that walk alone and refuses scenes of the other.
+template <unsigned Only = 0, class F>
 decltype(auto) with_dynamic_walk(unsigned dims, F&& f) {
+  static_assert(Only == 0 || Only == 2 || Only == 3, "with_dynamic_walk<Only>: Only is 2 or 3 (0: either)");
   if (dims != 2 && dims != 3) throw std::invalid_argument("walk: dims must be 2 or 3, got " + std::to_string(dims));
-  if (dims == 2) return f(std::type_identity<walk_circuit<dynamic_walk_shape<2>>>{});
-  return f(std::type_identity<walk_circuit<dynamic_walk_shape<3>>>{});
+  if constexpr (Only != 0) {
+    if (dims != Only)
+      throw std::invalid_argument("walk: the scene has " + std::to_string(dims) + " dimensions; this walk is compiled for " +
+                                  std::to_string(Only));
+    return f(std::type_identity<walk_circuit<dynamic_walk_shape<Only>>>{});
+  } else {
+    if (dims == 2) return f(std::type_identity<walk_circuit<dynamic_walk_shape<2>>>{});
+    return f(std::type_identity<walk_circuit<dynamic_walk_shape<3>>>{});
+  }
 }
 
 // record(c): a typed circuit lowered to a program (its layout's non-empty registers kept for
@@ -607,7 +615,6 @@ program record(const C& c) {
 // one walk instead of both (a 2D-only program need not build the 3D one), and refuses other scenes.
 template <unsigned Dims = 0>
 inline walk_program make_walk_program(const walk_model& m, const walk_start& start, const walk_options& o) {
-  static_assert(Dims == 0 || Dims == 2 || Dims == 3, "make_walk_program<Dims>: Dims is 2 or 3 (0: the scene's)");
   auto build = [&]<class C>(std::type_identity<C>) {
     const C a(m, start, o);
     walk_program w;
@@ -635,14 +642,7 @@ inline walk_program make_walk_program(const walk_model& m, const walk_start& sta
     }
     return w;
   };
-  if constexpr (Dims == 0) {
-    return with_dynamic_walk(m.dims(), build);
-  } else {
-    if (m.dims() != Dims)
-      throw std::invalid_argument("make_walk_program<" + std::to_string(Dims) + ">: the scene has " +
-                                  std::to_string(m.dims()) + " dimensions");
-    return build(std::type_identity<walk_circuit<dynamic_walk_shape<Dims>>>{});
-  }
+  return with_dynamic_walk<Dims>(m.dims(), build);
 }
 
 // probability_out(backend, w): run w's circuit on a fresh backend and read P(out = 1).

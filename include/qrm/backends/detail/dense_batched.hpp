@@ -200,6 +200,32 @@ inline block_order order_blocks(const csr_matrix& m) {
   return out;
 }
 
+// How an 8x8 matrix runs in the fixed-width form, decided once per gate: entries per row (0: not
+// that form), the offset set (0: columns listed), and the row and column order that puts it in a
+// smaller set than its own order does (`reordered`; see block_order). Reordering keeps each row's
+// number of non-zeros, so the width holds in either order.
+struct fixed_width_form {
+  unsigned width = 0, set = 0;
+  bool reordered = false;
+  std::array<std::uint8_t, 8> row{}, col{};
+};
+template <int = 0>
+inline fixed_width_form choose_fixed_width_form(const csr_matrix& m) {
+  fixed_width_form f;
+  f.width = ell_width(m);
+  if (f.width == 0) return f;
+  f.set = xor_offset_set(m);
+  if (f.set != 0 && std::popcount(f.set) <= 2) return f;  // already pairs: nothing smaller
+  const block_order order = order_blocks(m);
+  if (order.set && (f.set == 0 || std::popcount(order.set) < std::popcount(f.set))) {
+    f.set = order.set;
+    f.reordered = true;
+    f.row = order.row;
+    f.col = order.col;
+  }
+  return f;
+}
+
 // One application: the matrix, each row's offset from a base (where row r is stored, and
 // where column r is loaded from: the same unless block_order reordered them), the amplitudes.
 template <class S>

@@ -443,24 +443,21 @@ void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qub
       }
 #endif
       csr_matrix rows = csr_matrix::of(m);
-      // A block structure in no offset set (or only in {0, 1, 4, 5} with blocks of two) is put in
-      // the order that makes it one (see block_order); `mat` is the matrix in the order applied.
+      // `mat` is the matrix in the order applied: reordered when that puts it in a smaller
+      // offset set (see block_order); rows are then stored to store_at, columns loaded from load_from.
+      const fixed_width_form form = choose_fixed_width_form(rows);
       const dense_matrix* mat = &m;
       dense_matrix reordered;
       std::array<std::uint64_t, 8> store_at{}, load_from{};
-      const unsigned direct_set = ell_width(rows) ? xor_offset_set(rows) : 0;
-      if (ell_width(rows) && (direct_set == 0 || std::popcount(direct_set) > 2)) {
-        const block_order bo = order_blocks(rows);
-        if (bo.set && (direct_set == 0 || std::popcount(bo.set) < std::popcount(direct_set))) {
-          reordered = dense_matrix(8);
-          for (std::size_t i = 0; i < 8; ++i) {
-            for (std::size_t j = 0; j < 8; ++j) reordered(i, j) = m(bo.row[i], bo.col[j]);
-            store_at[i] = offsets[bo.row[i]];
-            load_from[i] = offsets[bo.col[i]];
-          }
-          rows = csr_matrix::of(reordered);
-          mat = &reordered;
+      if (form.reordered) {
+        reordered = dense_matrix(8);
+        for (std::size_t i = 0; i < 8; ++i) {
+          for (std::size_t j = 0; j < 8; ++j) reordered(i, j) = m(form.row[i], form.col[j]);
+          store_at[i] = offsets[form.row[i]];
+          load_from[i] = offsets[form.col[i]];
         }
+        rows = csr_matrix::of(reordered);
+        mat = &reordered;
       }
       csr_job<S> job{&rows, mat == &m ? offsets.data() : store_at.data(), a};
       if (mat != &m) job.load_offsets = load_from.data();
@@ -480,10 +477,10 @@ void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qub
       std::array<std::uint8_t, 32> ell_col{};
       std::array<double, 32> ell_re{}, ell_im{};
       std::array<float, 32> ell_re_f{}, ell_im_f{};
-      if (const unsigned k = ell_width(rows)) {
+      if (const unsigned k = form.width) {
         // Row r's entries: at columns r ^ d (d from the offset set, fixed at compile time), or
         // at listed columns padded to k.
-        const unsigned set = xor_offset_set(rows);
+        const unsigned set = form.set;
         const auto w = set ? static_cast<unsigned>(std::popcount(set)) : k;
         for (std::size_t r = 0; r < 8; ++r)
           for (unsigned e = 0; e < w; ++e) {
