@@ -201,4 +201,17 @@ TEST_CASE("glossy voxels in scene files: kind G with 'lobe T', written back exac
   bad.at(1, 1, 1).lobe = 0.5;
   CHECK(error_of([&] { bad.validate(); }) ==
         "scene 'bad': voxel (1, 1, 1): lobe 0.500000 on a lambertian voxel (only glossy voxels have a lobe)");
+  // In 2D the voxel is named by two coordinates, and only the failing voxel is named.
+  qrm::scene flat("flat", 2, 4);
+  flat.at(3, 2).reflectance = {0.5, 1.5, 0.5};
+  CHECK(error_of([&] { flat.validate(); }) == "scene 'flat': voxel (3, 2): reflectance 1.500000 outside [0, 1] in channel G");
+  flat.at(3, 2).reflectance = {0.5, 0.5, 0.5};
+  flat.at(0, 1).emission = {0, 0, -1};
+  CHECK(error_of([&] { flat.validate(); }) == "scene 'flat': voxel (0, 1): emission -1.000000 must be finite and >= 0 in channel B");
+  flat.at(0, 1).emission = {0, 0, 0};
+  flat.at(2, 3).kind = qrm::material::lambertian;
+  flat.at(2, 3).normal_index = 9;
+  CHECK(error_of([&] { flat.validate(); }) == "scene 'flat': voxel (2, 3): a lambertian voxel needs a normal index 0..7, got 9");
+  flat.at(2, 3).normal_index = 1;
+  CHECK_NOTHROW(flat.validate());
 }

@@ -28,7 +28,7 @@
 namespace qrm::detail {
 
 // What lane_mix_body needs: columns' offsets and coefficient vectors
-// coef_re/coef_im[(row * 8 + t) * 2N + lane] for term t = column * patterns + pattern (the
+// coef_re/coef_im[(row * dim + t) * 2N + lane] for term t = column * patterns + pattern (the
 // columns and lane patterns are compile-time constants of the body).
 template <class A>
 struct lane_mix_job {
@@ -70,14 +70,14 @@ template <class S, class A, unsigned N, unsigned LowMask, std::size_t... Q>
   (xor_complex_lanes<patterns[Q]>(w, x[Q], std::make_index_sequence<2 * N>{}), ...);
 }
 
-template <class S, class A, unsigned N, unsigned LowMask, bool RealMatrix>
+template <class S, class A, unsigned N, unsigned Dim, unsigned LowMask, bool RealMatrix>
 [[gnu::always_inline]] inline void lane_mix_body(const lane_mix_job<A>& job, const subspace& s, std::uint64_t k0,
                                                  std::uint64_t k1) {
   using R = typename scalar_traits<S>::real;
   using vec = typename lanes<A, N>::type;
   using stored = typename lanes<R, N>::type;
   R* p = static_cast<R*>(job.amplitudes);
-  constexpr unsigned Patterns = 1u << std::popcount(LowMask), Columns = 8 / Patterns, dim = 8;
+  constexpr unsigned Patterns = 1u << std::popcount(LowMask), Columns = Dim / Patterns, dim = Dim;
   vec x[dim];
   vec sign;
   for (unsigned l = 0; l < 2 * N; ++l) sign[l] = (l % 2 == 0) ? -1.0 : 1.0;
@@ -125,24 +125,25 @@ template <class S, class A, unsigned N, unsigned LowMask, bool RealMatrix>
 }
 
 #ifdef QRM_HAS_CPU_DISPATCH
-template <class S, class A, unsigned N, unsigned LowMask>
+template <class S, class A, unsigned N, unsigned Dim, unsigned LowMask>
 __attribute__((target("avx512f"))) void lane_mix_avx512(const lane_mix_job<A>& job, const subspace& s,
                                                         std::uint64_t k0, std::uint64_t k1) {
   if (job.real)
-    lane_mix_body<S, A, N, LowMask, true>(job, s, k0, k1);
+    lane_mix_body<S, A, N, Dim, LowMask, true>(job, s, k0, k1);
   else
-    lane_mix_body<S, A, N, LowMask, false>(job, s, k0, k1);
+    lane_mix_body<S, A, N, Dim, LowMask, false>(job, s, k0, k1);
 }
 
-// Applies an 8x8 m on `targets` to the bases of `s` (controls and the targets at or above
+// Applies a Dim x Dim m on `targets` to the bases of `s` (controls and the targets at or above
 // log2(N) fixed; no control below log2(N)), N complex numbers of type A per 512-bit register,
-// the targets below log2(N) as lanes; `chunks(g)` calls g(k0, k1) over s. Compiled for 8x8
-// matrices only, with fixed trip counts and permutations (with run-time ones the inputs stayed
-// in memory and the form lost to the gathered bases): fused blocks are 8x8 unless a circuit has
-// fewer qubits to fuse.
-template <class S, class A, unsigned N, class Chunks>
+// the targets below log2(N) as lanes; `chunks(g)` calls g(k0, k1) over s. Compiled for Dim x Dim
+// matrices, Dim 8 (fused blocks are 8x8 unless a circuit has fewer qubits to fuse) or 2 (a
+// 1-qubit gate on qubit 0 or 1 of complex<float> in double arithmetic), with fixed trip counts and
+// permutations: with run-time ones the inputs stayed in memory and the form lost to the gathered
+// bases.
+template <class S, class A, unsigned N, unsigned Dim = 8, class Chunks>
 void lane_mix(S* a, const dense_matrix& m, std::span<const qubit_index> targets, const subspace& s, Chunks&& chunks) {
-  static_assert(2 * N * sizeof(A) == 64);
+  static_assert(2 * N * sizeof(A) == 64 && (Dim == 2 || Dim == 8));
   constexpr unsigned lane_bits = std::countr_zero(N);
   std::array<qubit_index, 8> low{}, high{};
   std::array<unsigned, 8> low_at{}, high_at{};  // the matrix index bit of each
@@ -176,11 +177,11 @@ void lane_mix(S* a, const dense_matrix& m, std::span<const qubit_index> targets,
   // Aligned: a coefficient vector split across two cache lines doubled the kernel's time.
   alignas(64) std::array<A, 8 * 8 * 2 * N> re{}, im{};
   for (unsigned r = 0; r < columns; ++r)
-    for (unsigned t = 0; t < 8; ++t)
+    for (unsigned t = 0; t < Dim; ++t)
       for (unsigned l = 0; l < N; ++l) {
         const unsigned c = t / patterns, q = t % patterns;
         const complex z = m(matrix_index(r, l), matrix_index(c, l ^ lane_xor[q]));
-        const std::size_t at = (std::size_t{r} * 8 + t) * 2 * N + 2 * l;
+        const std::size_t at = (std::size_t{r} * Dim + t) * 2 * N + 2 * l;
         re[at] = re[at + 1] = static_cast<A>(z.real());
         im[at] = im[at + 1] = static_cast<A>(z.imag());
       }
@@ -190,17 +191,18 @@ void lane_mix(S* a, const dense_matrix& m, std::span<const qubit_index> targets,
   for (unsigned i = 0; i < nl; ++i) low_mask |= 1u << low[i];
   chunks([&](std::uint64_t k0, std::uint64_t k1) {
     switch (low_mask) {
-      case 1: return lane_mix_avx512<S, A, N, 1>(job, s, k0, k1);
-      case 2: return lane_mix_avx512<S, A, N, 2>(job, s, k0, k1);
-      case 3: return lane_mix_avx512<S, A, N, 3>(job, s, k0, k1);
+      case 1: return lane_mix_avx512<S, A, N, Dim, 1>(job, s, k0, k1);
+      case 2: return lane_mix_avx512<S, A, N, Dim, 2>(job, s, k0, k1);
       default: break;
     }
-    if constexpr (N == 8) {
+    if constexpr (Dim == 8)
+      if (low_mask == 3) return lane_mix_avx512<S, A, N, Dim, 3>(job, s, k0, k1);
+    if constexpr (N == 8 && Dim == 8) {
       switch (low_mask) {
-        case 4: return lane_mix_avx512<S, A, N, 4>(job, s, k0, k1);
-        case 5: return lane_mix_avx512<S, A, N, 5>(job, s, k0, k1);
-        case 6: return lane_mix_avx512<S, A, N, 6>(job, s, k0, k1);
-        case 7: return lane_mix_avx512<S, A, N, 7>(job, s, k0, k1);
+        case 4: return lane_mix_avx512<S, A, N, Dim, 4>(job, s, k0, k1);
+        case 5: return lane_mix_avx512<S, A, N, Dim, 5>(job, s, k0, k1);
+        case 6: return lane_mix_avx512<S, A, N, Dim, 6>(job, s, k0, k1);
+        case 7: return lane_mix_avx512<S, A, N, Dim, 7>(job, s, k0, k1);
         default: break;
       }
     }
