@@ -283,9 +283,9 @@ void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cm
         });
         return;
       }
+    } else if (resolve_simd(ex.simd) == simd_level::avx512 && t < 2 && (cmask & 3) == 0 && n >= 2) {
       // Double arithmetic at AVX-512, target 0 or 1: four amplitudes per register, the target a lane
       // (dense_lanes.hpp), where the pair loop below widened one scalar at a time.
-    } else if (resolve_simd(ex.simd) == simd_level::avx512 && t < 2 && (cmask & 3) == 0 && n >= 2) {
       dense_matrix m(2);
       for (int r = 0; r < 2; ++r)
         for (int c = 0; c < 2; ++c) m(static_cast<std::size_t>(r), static_cast<std::size_t>(c)) = g.m[r][c];
