@@ -164,10 +164,7 @@ struct phase : detail::gate1_base<phase<Target, Ctrls...>, false, Target, Ctrls.
 namespace detail {
 template <int = 0>
 inline gate1 checked_gate1(const gate1& g, bool need_real) {
-  dense_matrix m(2);
-  for (int r = 0; r < 2; ++r)
-    for (int c = 0; c < 2; ++c) m(static_cast<std::size_t>(r), static_cast<std::size_t>(c)) = g.m[r][c];
-  const double err = unitarity_error(m);
+  const double err = unitarity_error(dense_matrix::of(g));
   if (!(err <= 1e-10))
     throw std::invalid_argument("u: the 2x2 matrix is not unitary (max |U^dagger U - I| = " + std::to_string(err) + ")");
   if (need_real && !g.is_real()) throw std::invalid_argument("real_u: the 2x2 matrix has an imaginary part");

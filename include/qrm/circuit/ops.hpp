@@ -112,6 +112,13 @@ struct dense_matrix {
     return true;
   }
   template <int = 0>
+  static dense_matrix of(const gate1& g) {  // the 2x2 matrix of a 1-qubit gate
+    dense_matrix m(2);
+    for (std::size_t r = 0; r < 2; ++r)
+      for (std::size_t c = 0; c < 2; ++c) m(r, c) = g.m[r][c];
+    return m;
+  }
+  template <int = 0>
   static dense_matrix identity(std::size_t d) {
     dense_matrix m(d);
     for (std::size_t i = 0; i < d; ++i) m(i, i) = 1.0;

@@ -135,9 +135,8 @@ class scene {
   template <int = 0>
   std::size_t index(unsigned x, unsigned y, unsigned z = 0) const {
     if (x >= size_ || y >= size_ || z >= (dims_ == 3 ? size_ : 1u))
-      throw std::out_of_range("scene '" + name_ + "': voxel (" + std::to_string(x) + ", " + std::to_string(y) +
-                              (dims_ == 3 ? ", " + std::to_string(z) : std::string()) + ") is outside the " +
-                              std::to_string(size_) + "^" + std::to_string(dims_) + " grid");
+      throw std::out_of_range(voxel_name(x, y, z) + " is outside the " + std::to_string(size_) + "^" +
+                              std::to_string(dims_) + " grid");
     return x + static_cast<std::size_t>(size_) * (y + static_cast<std::size_t>(size_) * z);
   }
   template <int = 0>
@@ -220,11 +219,16 @@ class scene {
   }
 
  private:
+  // "scene 'NAME': voxel (x, y)" or "(x, y, z)": how errors name a voxel.
+  template <int = 0>
+  std::string voxel_name(unsigned x, unsigned y, unsigned z) const {
+    return "scene '" + name_ + "': voxel (" + std::to_string(x) + ", " + std::to_string(y) +
+           (dims_ == 3 ? ", " + std::to_string(z) : std::string()) + ")";
+  }
   template <int = 0>
   [[noreturn]] void invalid_voxel(std::size_t i, const std::string& what) const {
     const auto c = coords(i);
-    throw std::invalid_argument("scene '" + name_ + "': voxel (" + std::to_string(c[0]) + ", " + std::to_string(c[1]) +
-                                (dims_ == 3 ? ", " + std::to_string(c[2]) : std::string()) + "): " + what);
+    throw std::invalid_argument(voxel_name(c[0], c[1], c[2]) + ": " + what);
   }
 
   std::string name_;

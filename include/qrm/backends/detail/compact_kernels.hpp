@@ -111,14 +111,7 @@ struct compiled_matrix {
       col_start.push_back(static_cast<std::uint32_t>(row.size()));
     }
   }
-  explicit compiled_matrix(const gate1& g) : compiled_matrix(as_dense(g)) {}
-  template <int = 0>
-  static dense_matrix as_dense(const gate1& g) {
-    dense_matrix d(2);
-    for (std::size_t r = 0; r < 2; ++r)
-      for (std::size_t c = 0; c < 2; ++c) d(r, c) = g.m[r][c];
-    return d;
-  }
+  explicit compiled_matrix(const gate1& g) : compiled_matrix(dense_matrix::of(g)) {}
 };
 
 // Select value -> entry id (or -1: identity) for multiplexed gates. A table indexed by the

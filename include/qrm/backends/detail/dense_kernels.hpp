@@ -286,9 +286,7 @@ void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cm
     } else if (resolve_simd(ex.simd) == simd_level::avx512 && t < 2 && (cmask & 3) == 0 && n >= 2) {
       // Double arithmetic at AVX-512, target 0 or 1: four amplitudes per register, the target a lane
       // (dense_lanes.hpp), where the pair loop below widened one scalar at a time.
-      dense_matrix m(2);
-      for (int r = 0; r < 2; ++r)
-        for (int c = 0; c < 2; ++c) m(static_cast<std::size_t>(r), static_cast<std::size_t>(c)) = g.m[r][c];
+      const dense_matrix m = dense_matrix::of(g);
       const qubit_index target[] = {static_cast<qubit_index>(t)};
       const subspace bases(n, cmask, cvalue);
       const auto chunks = [&](auto&& f) { for_each_chunk(bases, ex, 2, f); };
@@ -300,9 +298,7 @@ void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cm
     // thread); at target 0 (without AVX-512) the pair loop is already one vectorised stream.
     // Small states keep the loop: the matrix kernel's setup would dominate.
     if (t >= 1 && n - static_cast<unsigned>(std::popcount(cmask)) >= 12) {
-      dense_matrix m(2);
-      for (int r = 0; r < 2; ++r)
-        for (int c = 0; c < 2; ++c) m(static_cast<std::size_t>(r), static_cast<std::size_t>(c)) = g.m[r][c];
+      const dense_matrix m = dense_matrix::of(g);
       const qubit_index target[] = {static_cast<qubit_index>(t)};
       kernel_unitary(a, n, m, target, st, cmask, cvalue, ex);
       return;
