@@ -59,6 +59,21 @@ TEST_CASE("paper_4x4 holds the authors' data") {
   CHECK(s.at(1, 1).kind == qrm::material::air);
 }
 
+TEST_CASE("the built-in paper scenes equal their scene files in examples/scenes") {
+  // The built-ins are C++ tables, the files scene-format text: two copies typed in from the
+  // authors' tables, read through different code, so each checks the other.
+  for (const char* name : {"paper_4x4", "paper_8x8"}) {
+    CAPTURE(name);
+    const qrm::scene file = qrm::load_scene(std::string(QRM_EXAMPLE_SCENES) + "/" + name + ".txt");
+    const qrm::scene builtin = qrm::builtin_2d_scene(name);
+    CHECK(builtin.name() == file.name());
+    CHECK(builtin.size() == file.size());
+    CHECK(builtin.march() == file.march());
+    CHECK(builtin.lambertian_coin() == file.lambertian_coin());
+    CHECK(builtin.voxels() == file.voxels());
+  }
+}
+
 TEST_CASE("format_scene and parse_scene round-trip exactly, 2D and 3D") {
   const qrm::scene a = qrm::paper_8x8();
   const qrm::scene b = qrm::parse_scene(qrm::format_scene(a), "roundtrip");

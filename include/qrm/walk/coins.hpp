@@ -112,12 +112,12 @@ inline dense_matrix lambertian_coin_2d_symmetric(int n) {
 
 namespace detail {
 // Greedy snap: among the sources not yet assigned and the targets not yet taken, pairs
-// (d, t) are taken in order of increasing distance between target(d) and t (ties: lower d,
+// (d, t) are taken in order of increasing distance between image[d] and t (ties: lower d,
 // then lower t), each source and each target used once. With as many free targets as free
-// sources every source gets one, so a full pass is a bijection; and whenever target(d) is
+// sources every source gets one, so a full pass is a bijection; and whenever image[d] is
 // itself a free target, the pair at distance 0 is taken first, so the snap is exact there.
-template <class F>
-void greedy_snap(const direction_set& s, F target, const std::vector<std::size_t>& sources,
+template <int = 0>
+void greedy_snap(const direction_set& s, const std::vector<vec3>& image, const std::vector<std::size_t>& sources,
                  const std::vector<std::size_t>& targets, std::vector<std::size_t>& perm, std::vector<bool>& taken) {
   const std::size_t D = s.size();
   struct cand {
@@ -127,14 +127,17 @@ void greedy_snap(const direction_set& s, F target, const std::vector<std::size_t
   std::vector<cand> all;
   for (std::size_t d : sources) {
     if (perm[d] != D) continue;
-    const vec3 t = target(s.vectors[d]);
+    const vec3& t = image[d];
     for (std::size_t e : targets) {
       if (taken[e]) continue;
       const vec3 diff{t[0] - s.vectors[e][0], t[1] - s.vectors[e][1], t[2] - s.vectors[e][2]};
       all.push_back({dot(diff, diff), d, e});
     }
   }
-  std::stable_sort(all.begin(), all.end(), [](const cand& a, const cand& b) { return a.dist < b.dist; });
+  std::sort(all.begin(), all.end(), [](const cand& a, const cand& b) {
+    if (a.dist != b.dist) return a.dist < b.dist;
+    return a.from != b.from ? a.from < b.from : a.to < b.to;
+  });
   for (const cand& c : all)
     if (perm[c.from] == D && !taken[c.to]) {
       perm[c.from] = c.to;
@@ -142,14 +145,23 @@ void greedy_snap(const direction_set& s, F target, const std::vector<std::size_t
     }
 }
 
-// A permutation of the directions close to d -> target(d) (greedy_snap over all of them).
+// image_of(s, f): f applied to every direction of s.
 template <class F>
-std::vector<std::size_t> snap_permutation(const direction_set& s, F target) {
+std::vector<vec3> image_of(const direction_set& s, F f) {
+  std::vector<vec3> r;
+  r.reserve(s.size());
+  for (const vec3& v : s.vectors) r.push_back(f(v));
+  return r;
+}
+
+// A permutation of the directions close to d -> image[d] (greedy_snap over all of them).
+template <int = 0>
+std::vector<std::size_t> snap_permutation(const direction_set& s, const std::vector<vec3>& image) {
   std::vector<std::size_t> all(s.size());
   for (std::size_t d = 0; d < s.size(); ++d) all[d] = d;
   std::vector<std::size_t> perm(s.size(), s.size());
   std::vector<bool> taken(s.size(), false);
-  greedy_snap(s, target, all, all, perm, taken);
+  greedy_snap(s, image, all, all, perm, taken);
   return perm;
 }
 
@@ -164,7 +176,7 @@ inline dense_matrix permutation_coin(const std::vector<std::size_t>& perm, std::
 // boundary_coin(s): reverse every direction (d -> the direction nearest -d, as a permutation).
 template <int = 0>
 inline dense_matrix boundary_coin(const direction_set& s) {
-  const auto perm = detail::snap_permutation(s, [](const vec3& v) { return vec3{-v[0], -v[1], -v[2]}; });
+  const auto perm = detail::snap_permutation(s, detail::image_of(s, [](const vec3& v) { return vec3{-v[0], -v[1], -v[2]}; }));
   return detail::permutation_coin(perm, std::size_t{1} << s.bits());
 }
 
@@ -192,7 +204,9 @@ inline lambertian_split split_hemisphere(const direction_set& s, const vec3& nor
     else
       rest.push_back({c, d});
   }
-  std::stable_sort(rest.begin(), rest.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  // Most outgoing first; ties in index order (rest is built in index order).
+  std::sort(rest.begin(), rest.end(),
+            [](const auto& a, const auto& b) { return a.first != b.first ? a.first > b.first : a.second < b.second; });
   std::size_t incoming_count = 0;
   for (const auto& [c, d] : rest) incoming_count += c < -eps ? 1 : 0;
   std::size_t next = 0;
@@ -296,10 +310,10 @@ inline dense_matrix lambertian_coin(const direction_set& s, const vec3& normal) 
 template <int = 0>
 inline std::vector<std::size_t> specular_permutation(const direction_set& s, const vec3& normal) {
   const vec3 n = normalized(normal);
-  auto mirror = [&](const vec3& v) {
+  const std::vector<vec3> mirror = detail::image_of(s, [&](const vec3& v) {
     const double k = 2.0 * dot(v, n);
     return vec3{v[0] - k * n[0], v[1] - k * n[1], v[2] - k * n[2]};
-  };
+  });
   const lambertian_split sp = split_hemisphere(s, n);
   std::vector<std::size_t> all(s.size());
   for (std::size_t d = 0; d < s.size(); ++d) all[d] = d;

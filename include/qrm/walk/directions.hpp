@@ -38,10 +38,9 @@ inline direction_set king_2d() {
   direction_set s;
   s.name = "king-8";
   s.dims = 2;
-  const int d[8][2] = {{0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}};
-  for (const auto& v : d) {
-    s.vectors.push_back(normalized({double(v[0]), double(v[1]), 0.0}));
-    s.displacement.push_back({v[0], v[1], 0});
+  for (int i = 0; i < 8; ++i) {
+    s.vectors.push_back(compass_vector_2d(i));
+    s.displacement.push_back({compass_2d[i][0], compass_2d[i][1], 0});
   }
   return s;
 }

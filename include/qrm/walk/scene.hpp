@@ -50,6 +50,10 @@ struct rgb {
 
 using vec3 = std::array<double, 3>;
 
+// The 2D compass, the authors' convention for both directions and normals: index i = 0 N, 1 NE,
+// 2 E, ..., 7 NW as a step of one cell (x = column, y = row growing downwards, so N is -y).
+inline constexpr int compass_2d[8][2] = {{0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}};
+
 inline double dot(const vec3& a, const vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 inline double norm(const vec3& a) { return std::sqrt(dot(a, a)); }
 // The unit vector along a: any finite nonzero a, however large or small its components.
@@ -63,6 +67,12 @@ inline vec3 normalized(const vec3& a) {
   const vec3 s{a[0] / m, a[1] / m, a[2] / m};  // largest component exactly +-1: norm(s) in [1, sqrt 3]
   const double ls = norm(s);
   return {s[0] / ls, s[1] / ls, s[2] / ls};
+}
+
+// The unit vector of compass index i (0..7): a 2D normal or direction.
+template <int = 0>
+inline vec3 compass_vector_2d(int i) {
+  return normalized({double(compass_2d[i][0]), double(compass_2d[i][1]), 0.0});
 }
 
 // The glossy lobe parameter's range (glossy_coin in walk/coins.hpp): up to 4 the lobe's mean

@@ -267,9 +267,8 @@ class scene_parser {
   template <int = 0>
   void set_normal_2d(voxel& v, long long n) const {
     if (n < 0 || n > 7) fail("normal index must be 0..7, got " + std::to_string(n));
-    static const int dxy[8][2] = {{0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}};
     v.normal_index = static_cast<int>(n);
-    v.normal = normalized({double(dxy[n][0]), double(dxy[n][1]), 0.0});
+    v.normal = compass_vector_2d(v.normal_index);
   }
   // camera position X Y Z look_at X Y Z [up X Y Z] [fov DEGREES]
   template <int = 0>
