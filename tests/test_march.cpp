@@ -304,15 +304,18 @@ TEST_CASE("radiance table: equals the per-start path sum on every start of an im
     const qrm::detail::transition_table t(m);
     const qrm::render::radiance_table table(t, 5, 2);
     const auto px = qrm::render::pixel_starts(m, qrm::render::box_scene_camera(16, 24, 24));
+    // A start is its voxel and direction, and neighbouring pixels often share one: each distinct
+    // start is checked once (the same checks as per pixel, without repeating a path sum).
+    std::set<std::pair<std::size_t, int>> seen;
     std::size_t checked = 0;
     for (const auto& p : px) {
-      if (!p.hit) continue;
+      if (!p.hit || !seen.insert({p.voxel, p.start.direction}).second) continue;
       const auto want = qrm::render::path_sum_rgb(t, p.start, 5);
       const auto& got = table.value(p.voxel, static_cast<std::uint32_t>(p.start.direction));
       for (int c = 0; c < 3; ++c) REQUIRE(got[c] == doctest::Approx(want[c]).epsilon(1e-12).scale(1e-300));
       ++checked;
     }
-    CHECK(checked > 300);
+    CHECK(checked > 300);  // 345, 358 and 370 distinct starts
   }
   // Sub-voxel bits with the voxel march leave voxel centres: the table refuses.
   const qrm::walk_model drift(qrm::render::cornell_box(8), qrm::golden_spiral(15, 3), qrm::march_mode::voxel);

@@ -435,9 +435,16 @@ class compact_state {
     try {
       f();
     } catch (const std::bad_alloc&) {
-      throw std::length_error("compact_state: out of memory at " + std::to_string(cur_.size()) +
-                              " nonzero amplitudes (" + std::to_string(memory_bytes()) + " bytes held)");
+      throw_out_of_memory();
     }
+    after_operation();
+  }
+  // Apart from guarded so that each operation's instantiation holds only the call and the catch.
+  [[noreturn]] void throw_out_of_memory() const {
+    throw std::length_error("compact_state: out of memory at " + std::to_string(cur_.size()) +
+                            " nonzero amplitudes (" + std::to_string(memory_bytes()) + " bytes held)");
+  }
+  void after_operation() {
     note_peak(memory_bytes());
     if (prune_threshold_ > 0) prune(prune_threshold_);
     // Buffers much larger than the state are released, so memory follows the nonzeros; the slack
