@@ -176,7 +176,8 @@ inline dense_matrix permutation_coin(const std::vector<std::size_t>& perm, std::
 // boundary_coin(s): reverse every direction (d -> the direction nearest -d, as a permutation).
 template <int = 0>
 inline dense_matrix boundary_coin(const direction_set& s) {
-  const auto perm = detail::snap_permutation(s, detail::image_of(s, [](const vec3& v) { return vec3{-v[0], -v[1], -v[2]}; }));
+  const auto reversed = detail::image_of(s, [](const vec3& v) { return vec3{-v[0], -v[1], -v[2]}; });
+  const auto perm = detail::snap_permutation(s, reversed);
   return detail::permutation_coin(perm, std::size_t{1} << s.bits());
 }
 
