@@ -17,7 +17,12 @@
 // nothing worth deferring). Passed as a predicate, such a function is named `f<>`. Where
 // such a function uses a helper class template, it passes its parameter on (`template <int
 // Deferred = 0>` ... `helper<Deferred>`): a helper named with a fixed argument would be
-// instantiated by the compiler where the header is read, used or not.
+// instantiated by the compiler where the header is read, used or not. clang goes further: it
+// instantiates the standard library's constexpr members (all of std::vector's in C++20) that a
+// template calls on a non-dependent type where the template is defined. The heaviest deferred
+// code (the program, the lowerer, the QASM parser, compact_state, build_walk_tables) therefore
+// names its containers through `detail::deferred<T, Deferred>`, which is T spelled as a
+// dependent type.
 #pragma once
 
 #include "version.hpp"

@@ -56,6 +56,7 @@
 #include "detail/scalar.hpp"
 #include "detail/validate.hpp"
 #include "../circuit/ops.hpp"
+#include "../support/detail/meta.hpp"
 
 namespace qrm {
 
@@ -76,6 +77,9 @@ struct prune_stats {
 // compact_state<S, L>: the nonzero amplitudes of an n-qubit state, starting in |0...0>.
 template <class Scalar = std::complex<double>, class Label = std::uint64_t>
 class compact_state {
+  template <class T>
+  using list = detail::deferred<std::vector<T>, sizeof(Scalar)>;
+
   static constexpr bool scalar_must_be_float_double_or_complex = detail::is_backend_scalar<Scalar>;
   static_assert(scalar_must_be_float_double_or_complex,
                 "scalar_must_be_float_double_or_complex: compact_state<S, L> needs S = float, double, "
@@ -128,11 +132,11 @@ class compact_state {
   }
 
   // The state as 2^n dense amplitudes (n <= 32).
-  std::vector<Scalar> to_dense() const {
+  list<Scalar> to_dense() const {
     if (n_ > 32)
       throw std::length_error("compact_state::to_dense: " + std::to_string(n_) +
                               " qubits are too many for a dense vector here (at most 32)");
-    std::vector<Scalar> d(std::size_t{1} << n_, Scalar{});
+    list<Scalar> d(std::size_t{1} << n_, Scalar{});
     for (const entry& e : cur_) d[static_cast<std::size_t>(T::low_u64(e.label))] = e.amp;
     return d;
   }
@@ -141,7 +145,7 @@ class compact_state {
     if (n_ > 62 || amplitudes.size() != (std::size_t{1} << n_))
       throw std::invalid_argument("compact_state::set_amplitudes: got " + std::to_string(amplitudes.size()) +
                                   " amplitudes, need 2^" + std::to_string(n_));
-    std::vector<entry> v;
+    list<entry> v;
     std::size_t count = 0;
     for (const Scalar& a : amplitudes) count += a != Scalar{} ? 1 : 0;
     v.reserve(count);
@@ -207,24 +211,24 @@ class compact_state {
     if (g.is_identity()) return;
     const bool is_x =
         g.m[0][0] == complex{} && g.m[1][1] == complex{} && g.m[0][1] == complex{1.0} && g.m[1][0] == complex{1.0};
-    const std::vector<qubit_index> ts = {target};
+    const list<qubit_index> ts = {target};
     if (is_x) {
       guarded([&] { permute_add(1, ts, cond); });
       return;
     }
     const detail::select_lookup lookup({}, {{0, 0}});
     if (g.is_diagonal()) {
-      const std::vector<detail::compiled_matrix> ms = {detail::compiled_matrix(g)};
+      const list<detail::compiled_matrix> ms = {detail::compiled_matrix(g)};
       guarded([&] { scale_diagonal(ts, cond, lookup, ms); });
       return;
     }
-    const std::vector<detail::compiled_gate1> gs = {detail::compiled_gate1(g)};
+    const list<detail::compiled_gate1> gs = {detail::compiled_gate1(g)};
     guarded([&] { branch_one(target, cond, lookup, gs); });
   }
 
   void apply_unitary(const dense_matrix& m, std::span<const qubit_index> targets, std::span<const control> controls) {
     const auto cond = checks().unitary(m, targets, controls).cond;
-    const std::vector<detail::compiled_matrix> ms = {detail::compiled_matrix(m)};
+    const list<detail::compiled_matrix> ms = {detail::compiled_matrix(m)};
     const detail::select_lookup lookup({}, {{0, 0}});
     guarded([&] { apply_matrices(targets, cond, lookup, ms); });
   }
@@ -245,7 +249,7 @@ class compact_state {
                   std::span<const control> controls) {
     const auto cond = checks().mux1(entries, target, select, controls).cond;
     // Identity entries act like missing ones.
-    std::vector<std::pair<std::uint64_t, std::int32_t>> ids;
+    list<std::pair<std::uint64_t, std::int32_t>> ids;
     bool all_diagonal = true;
     for (std::size_t i = 0; i < entries.size(); ++i) {
       if (entries[i].gate.is_identity()) continue;
@@ -254,14 +258,14 @@ class compact_state {
     }
     if (ids.empty()) return;
     const detail::select_lookup lookup(select, ids);
-    const std::vector<qubit_index> ts = {target};
+    const list<qubit_index> ts = {target};
     if (all_diagonal) {
-      std::vector<detail::compiled_matrix> ms;
+      list<detail::compiled_matrix> ms;
       for (const auto& e : entries) ms.emplace_back(e.gate);
       guarded([&] { scale_diagonal(ts, cond, lookup, ms); });
       return;
     }
-    std::vector<detail::compiled_gate1> gs;
+    list<detail::compiled_gate1> gs;
     for (const auto& e : entries) gs.emplace_back(e.gate);
     guarded([&] { branch_one(target, cond, lookup, gs); });
   }
@@ -270,9 +274,9 @@ class compact_state {
                          std::span<const qubit_index> targets, std::span<const qubit_index> select,
                          std::span<const control> controls) {
     const auto cond = checks().mux_unitary(matrices, entries, targets, select, controls).cond;
-    std::vector<detail::compiled_matrix> ms;
+    list<detail::compiled_matrix> ms;
     for (const auto& m : matrices) ms.emplace_back(m);
-    std::vector<std::pair<std::uint64_t, std::int32_t>> ids;
+    list<std::pair<std::uint64_t, std::int32_t>> ids;
     for (const auto& e : entries) ids.push_back({e.select, static_cast<std::int32_t>(e.matrix)});
     if (ids.empty()) return;
     const detail::select_lookup lookup(select, ids);
@@ -296,9 +300,9 @@ class compact_state {
     return acc;
   }
   // Probabilities of every value of the register `bits` (2^k numbers).
-  std::vector<double> distribution(std::span<const qubit_index> bits) const {
+  list<double> distribution(std::span<const qubit_index> bits) const {
     checks().distribution(bits);
-    std::vector<double> p(std::size_t{1} << bits.size(), 0.0);
+    list<double> p(std::size_t{1} << bits.size(), 0.0);
     for (const entry& e : cur_) {
       std::size_t v = 0;
       for (std::size_t i = 0; i < bits.size(); ++i) v |= std::size_t{T::test(e.label, bits[i])} << i;
@@ -418,11 +422,11 @@ class compact_state {
     note_peak(memory_bytes() + cap * sizeof(typename V::value_type));
     v.reserve(cap);
   }
-  void push(std::vector<entry>& v, const Label& label, const Scalar& amp) {
+  void push(list<entry>& v, const Label& label, const Scalar& amp) {
     if (v.size() == v.capacity()) grow(v, v.size() + 1);
     v.push_back(entry{label, amp});
   }
-  void append(std::vector<entry>& v, const entry* first, std::size_t count) {
+  void append(list<entry>& v, const entry* first, std::size_t count) {
     grow(v, v.size() + count);
     v.insert(v.end(), first, first + count);
   }
@@ -508,8 +512,8 @@ class compact_state {
 
   // ---- diagonal operations: scale in place ---------------------------------------------------------
 
-  void scale_diagonal(const std::vector<qubit_index>& targets, detail::label_condition<Label> cond,
-                      const detail::select_lookup& lookup, const std::vector<detail::compiled_matrix>& ms) {
+  void scale_diagonal(const list<qubit_index>& targets, detail::label_condition<Label> cond,
+                      const detail::select_lookup& lookup, const list<detail::compiled_matrix>& ms) {
     // One target whose |0> (or |1>) entry is 1 in every matrix (Z, phase, controlled-Z): the
     // other value is one more control, so untouched entries are skipped by seeking.
     if (targets.size() == 1) {
@@ -643,12 +647,12 @@ class compact_state {
 
   // One target qubit: per block, the run with the target 0 merges with the run with the target 1.
   void branch_one(qubit_index t, const detail::label_condition<Label>& cond, const detail::select_lookup& lookup,
-                  const std::vector<detail::compiled_gate1>& gates) {
+                  const list<detail::compiled_gate1>& gates) {
     const Label bit = T::bit(t);
     const Label hi_mask = ~T::low_mask(t + 1);
     if (streams_.empty()) streams_.resize(1);
-    std::vector<entry>& out = next_;
-    std::vector<entry>& ones = streams_[0];
+    list<entry>& out = next_;
+    list<entry>& ones = streams_[0];
     out.clear();
     ones.clear();
     grow(out, cur_.size());
@@ -694,8 +698,8 @@ class compact_state {
   // k-qubit matrices (possibly multiplexed): diagonal ones scale in place; targets that are a
   // contiguous run of at most 3 qubits merge per block; anything else sorts.
   void apply_matrices(std::span<const qubit_index> targets, const detail::label_condition<Label>& cond,
-                      const detail::select_lookup& lookup, const std::vector<detail::compiled_matrix>& ms) {
-    const std::vector<qubit_index> ts(targets.begin(), targets.end());
+                      const detail::select_lookup& lookup, const list<detail::compiled_matrix>& ms) {
+    const list<qubit_index> ts(targets.begin(), targets.end());
     if (std::all_of(ms.begin(), ms.end(), [](const detail::compiled_matrix& m) { return m.diagonal; })) {
       scale_diagonal(ts, cond, lookup, ms);
       return;
@@ -711,8 +715,8 @@ class compact_state {
 
   // Targets occupy bits [p, p + k) in some order. In a block the entries of each target value
   // (run index = bits [p, p+k)) form a sorted run; a k-way merge on the other bits finds groups.
-  void branch_runs(const std::vector<qubit_index>& ts, qubit_index p, const detail::label_condition<Label>& cond,
-                   const detail::select_lookup& lookup, const std::vector<detail::compiled_matrix>& ms) {
+  void branch_runs(const list<qubit_index>& ts, qubit_index p, const detail::label_condition<Label>& cond,
+                   const detail::select_lookup& lookup, const list<detail::compiled_matrix>& ms) {
     const std::size_t k = ts.size(), runs = std::size_t{1} << k;
     // Matrix index c has target j = bit j; run index has qubit p + i = bit i.
     std::uint32_t run_of[8] = {}, column_of[8] = {};
@@ -728,12 +732,12 @@ class compact_state {
     const Label keep = ~tmask;
     const Label hi_mask = ~T::low_mask(p + k);
     if (streams_.size() < runs) streams_.resize(runs);
-    std::vector<entry>& out = next_;
+    list<entry>& out = next_;
     out.clear();
     for (std::size_t r = 1; r < runs; ++r) streams_[r].clear();
     grow(out, cur_.size());
     const entry* a = cur_.data();
-    auto stream = [&](std::uint32_t run) -> std::vector<entry>& { return run == 0 ? out : streams_[run]; };
+    auto stream = [&](std::uint32_t run) -> list<entry>& { return run == 0 ? out : streams_[run]; };
     for_each_block(
         hi_mask, cond, [&](std::size_t i, std::size_t j) { append(out, a + i, j - i); },
         [&](std::size_t b, std::size_t e) {
@@ -815,8 +819,8 @@ class compact_state {
   }
 
   // Any targets: sort by (group, matrix index), apply per group, sort the result by label.
-  void branch_sorted(const std::vector<qubit_index>& ts, const detail::label_condition<Label>& cond,
-                     const detail::select_lookup& lookup, const std::vector<detail::compiled_matrix>& ms) {
+  void branch_sorted(const list<qubit_index>& ts, const detail::label_condition<Label>& cond,
+                     const detail::select_lookup& lookup, const list<detail::compiled_matrix>& ms) {
     const std::size_t k = ts.size();
     Label tmask{};
     for (qubit_index q : ts) tmask = tmask | T::bit(q);
@@ -838,11 +842,11 @@ class compact_state {
         if ((c >> j) & 1u) l = l | T::bit(ts[j]);
       return l;
     };
-    std::vector<entry>& out = next_;
+    list<entry>& out = next_;
     out.clear();
     grow(out, cur_.size());
-    std::vector<std::uint32_t> cols;
-    std::vector<Scalar> xs;
+    list<std::uint32_t> cols;
+    list<Scalar> xs;
     for (std::size_t i = 0; i < items_.size();) {
       const Label g = items_[i].group;
       std::size_t j = i;
@@ -874,12 +878,12 @@ class compact_state {
   double prune_threshold_ = 0.0;
   prune_stats pruned_;
   std::size_t peak_bytes_ = 0;
-  std::vector<entry> cur_, next_;
-  std::vector<std::vector<entry>> streams_;  // outputs of runs 1.. of a block, appended after run 0
-  std::vector<item> items_;
-  std::vector<double> acc_re_, acc_im_;
-  std::vector<char> seen_;
-  std::vector<std::uint32_t> touched_;
+  list<entry> cur_, next_;
+  list<list<entry>> streams_;  // outputs of runs 1.. of a block, appended after run 0
+  list<item> items_;
+  list<double> acc_re_, acc_im_;
+  list<char> seen_;
+  list<std::uint32_t> touched_;
 };
 
 // compact_backend: the compact backend as a type (qrm::backend_family): real or complex double

@@ -82,6 +82,7 @@
 
 #include "metrics.hpp"
 #include "program.hpp"
+#include "../support/detail/meta.hpp"
 
 namespace qrm {
 
@@ -348,8 +349,11 @@ struct lowered_gate {
 };
 
 // Collects output gates; with `optimize`, fuses single-qubit runs and cancels equal pairs.
-template <int = 0>
+template <int Deferred = 0>
 class peephole_sink {
+  template <class T>
+  using list = deferred<std::vector<T>, Deferred>;
+
  public:
   explicit peephole_sink(bool optimize) : optimize_(optimize) {}
 
@@ -383,10 +387,10 @@ class peephole_sink {
     push({gate::x(), t, a, b, 2, true});
   }
 
-  const std::vector<lowered_gate>& gates() const { return gates_; }
+  const list<lowered_gate>& gates() const { return gates_; }
 
  private:
-  std::vector<std::uint32_t>& stack(qubit_index q) {
+  list<std::uint32_t>& stack(qubit_index q) {
     if (q >= last_.size()) last_.resize(q + 1);
     return last_[q];
   }
@@ -413,13 +417,16 @@ class peephole_sink {
   }
 
   bool optimize_;
-  std::vector<lowered_gate> gates_;
-  std::vector<std::vector<std::uint32_t>> last_;  // per qubit: live gates touching it, latest last
+  list<lowered_gate> gates_;
+  list<list<std::uint32_t>> last_;  // per qubit: live gates touching it, latest last
 };
 
 // The lowering rules of the header comment, applied op by op.
 template <int Deferred = 0>
 class lowerer {
+  template <class T>
+  using list = deferred<std::vector<T>, Deferred>;
+
  public:
   lowerer(std::size_t width, decompose_options o) : n_(width), opt_(o), out_(o.optimize) {}
 
@@ -428,12 +435,12 @@ class lowerer {
     visit_op(o, [&](const auto& x) { lower_op(x); });
   }
 
-  decomposition_result finish(const std::vector<register_info>& registers) const {
+  decomposition_result finish(const list<register_info>& registers) const {
     decomposition_result r{program(n_ + ancillas_), ancillas_};
     r.circuit.set_registers(registers);
     for (const lowered_gate& g : out_.gates()) {
       if (!g.alive) continue;
-      std::vector<control> cs;
+      list<control> cs;
       if (g.controls >= 1) cs.push_back({g.c0, true});
       if (g.controls >= 2) cs.push_back({g.c1, true});
       r.circuit.push(op::gate1_op{g.gate, g.target, std::move(cs)});
@@ -508,7 +515,7 @@ class lowerer {
     qubit_index a, b, t;
   };
   // The AND of positive controls qs (2 or more) into fresh ancillas; returns the last one.
-  qubit_index compute_and(std::span<const qubit_index> qs, std::vector<and_step>& steps) {
+  qubit_index compute_and(std::span<const qubit_index> qs, list<and_step>& steps) {
     qubit_index acc = qs[0];
     for (std::size_t i = 1; i < qs.size(); ++i) {
       const qubit_index t = allocate();
@@ -518,7 +525,7 @@ class lowerer {
     }
     return acc;
   }
-  void uncompute_and(const std::vector<and_step>& steps) {
+  void uncompute_and(const list<and_step>& steps) {
     for (std::size_t i = steps.size(); i-- > 0;) {
       and_into(steps[i].a, steps[i].b, steps[i].t);
       release(steps[i].t);
@@ -582,7 +589,7 @@ class lowerer {
     }
     for (const control& c : cs)
       if (!c.value) x(c.qubit);
-    std::vector<qubit_index> pos;
+    list<qubit_index> pos;
     pos.reserve(cs.size());
     for (const control& c : cs) pos.push_back(c.qubit);
     positive(u, t, pos);
@@ -599,7 +606,7 @@ class lowerer {
       positive(gate::phase(std::arg(u.m[0][0])), pos[k - 1], pos.first(k - 1));
       return;
     }
-    std::vector<and_step> steps;
+    list<and_step> steps;
     if (is_pauli_x(u)) {
       if (k == 2) {
         toffoli(pos[0], pos[1], t);
@@ -627,9 +634,9 @@ class lowerer {
     if (cs.size() == 1) {
       body(std::optional<qubit_index>{cs[0].qubit});
     } else {
-      std::vector<qubit_index> pos;
+      list<qubit_index> pos;
       for (const control& c : cs) pos.push_back(c.qubit);
-      std::vector<and_step> steps;
+      list<and_step> steps;
       const qubit_index a = compute_and(pos, steps);
       body(std::optional<qubit_index>{a});
       uncompute_and(steps);
@@ -639,9 +646,9 @@ class lowerer {
   }
 
   // Local gates on `qubits`, the conditional ones also controlled by `extra`.
-  void run_local(const std::vector<local_gate>& gates, std::span<const qubit_index> qubits,
+  void run_local(const list<local_gate>& gates, std::span<const qubit_index> qubits,
                  std::optional<qubit_index> extra) {
-    std::vector<control> cs;
+    list<control> cs;
     for (const local_gate& g : gates) {
       cs.clear();
       for (const control& c : g.controls) cs.push_back({qubits[c.qubit], c.value});
@@ -671,14 +678,14 @@ class lowerer {
       controlled(gate::u(m(0, 0), m(0, 1), m(1, 0), m(1, 1)), targets[0], cs);
       return;
     }
-    const std::vector<local_gate> gates = two_level_gates(m, k);
+    const list<local_gate> gates = two_level_gates(m, k);
     with_one_control(cs, [&](std::optional<qubit_index> c) { run_local(gates, targets, c); });
   }
 
   // Per-entry controls: the select qubits holding `select`, then the op's controls.
-  static std::vector<control> entry_controls(std::uint64_t select, std::span<const qubit_index> sel,
+  static list<control> entry_controls(std::uint64_t select, std::span<const qubit_index> sel,
                                              std::span<const control> cs) {
-    std::vector<control> r;
+    list<control> r;
     for (std::size_t i = 0; i < sel.size(); ++i) r.push_back({sel[i], ((select >> i) & 1u) != 0});
     r.insert(r.end(), cs.begin(), cs.end());
     return r;
@@ -699,7 +706,7 @@ class lowerer {
   void lower_op(const op::add_op& o) {
     if (o.bits.empty()) return;
     if (o.bits.size() > 62) fail("add on more than 62 qubits");
-    const std::vector<local_gate> gates = add_gates(o.constant, o.bits.size());
+    const list<local_gate> gates = add_gates(o.constant, o.bits.size());
     if (gates.empty()) return;
     with_one_control(o.controls, [&](std::optional<qubit_index> c) { run_local(gates, o.bits, c); });
   }
@@ -716,16 +723,16 @@ class lowerer {
     const std::size_t mm = m + o.controls.size();
     if (all_ry && mm >= 1 && mm <= 20 && (std::size_t{1} << mm) <= active * controlled_cost(mm)) {
       // Rule 6: the op's controls become the top select bits; other select values get angle 0.
-      std::vector<qubit_index> sel(o.select.begin(), o.select.end());
+      list<qubit_index> sel(o.select.begin(), o.select.end());
       std::uint64_t fixed = 0;
       for (std::size_t i = 0; i < o.controls.size(); ++i) {
         sel.push_back(o.controls[i].qubit);
         if (o.controls[i].value) fixed |= std::uint64_t{1} << (m + i);
       }
       const std::size_t n = std::size_t{1} << mm;
-      std::vector<double> alpha(n, 0.0);
+      list<double> alpha(n, 0.0);
       for (const mux1_entry& e : o.entries) alpha[e.select | fixed] = *ry_angle(e.gate);
-      const std::vector<double> theta = mottonen_angles(std::move(alpha));
+      const list<double> theta = mottonen_angles(std::move(alpha));
       for (std::size_t i = 0; i < n; ++i) {
         out_.single(gate::ry(theta[i]), o.target);
         out_.cnot(sel[mottonen_cnot_bit(i, n, static_cast<unsigned>(mm))], o.target);
@@ -749,7 +756,7 @@ class lowerer {
   decompose_options opt_;
   peephole_sink<Deferred> out_;
   std::size_t ancillas_ = 0;
-  std::vector<qubit_index> free_;
+  list<qubit_index> free_;
   std::size_t index_ = 0;
 };
 

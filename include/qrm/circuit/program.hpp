@@ -17,6 +17,7 @@
 
 #include "layout.hpp"
 #include "ops.hpp"
+#include "../support/detail/meta.hpp"
 
 namespace qrm {
 
@@ -149,8 +150,11 @@ inline op::any op_adjoint(const op::any& o) {
 
 // program: a width and a list of ops; records from any static circuit (it is a gate_sink). A
 // class template only so that its members are compiled where used (see qrm.hpp).
-template <int = 0>
+template <int Deferred = 0>
 class basic_program {
+  template <class T>
+  using list = detail::deferred<std::vector<T>, Deferred>;
+
  public:
   basic_program() = default;
   explicit basic_program(std::size_t width) : width_(width) {}
@@ -240,9 +244,9 @@ class basic_program {
 
  private:
   std::size_t width_ = 0;
-  std::vector<register_info> registers_;
-  std::vector<op::any> ops_;
-  std::vector<const char*> layers_;  // one per op
+  list<register_info> registers_;
+  list<op::any> ops_;
+  list<const char*> layers_;  // one per op
   const char* current_layer_ = nullptr;
 };
 

@@ -46,6 +46,7 @@
 
 #include "decompose.hpp"
 #include "program.hpp"
+#include "../support/detail/meta.hpp"
 #include "../version.hpp"
 
 namespace qrm {
@@ -503,6 +504,9 @@ inline constexpr qasm_std_gate qasm_std_gates[] = {
 
 template <int Deferred = 0>
 class qasm_parser {
+  template <class T>
+  using list = deferred<std::vector<T>, Deferred>;
+
  public:
   explicit qasm_parser(std::string_view text) : lex_(text) {}
 
@@ -532,7 +536,7 @@ class qasm_parser {
     double value = 0;
     std::size_t param = 0;
     std::string fn;
-    std::vector<expr> args;
+    list<expr> args;
     std::size_t depth = 1;  // of the tree: eval recurses this deep
   };
   struct modifier {
@@ -540,21 +544,21 @@ class qasm_parser {
     std::size_t count = 1;
   };
   struct call {
-    std::vector<modifier> mods;
+    list<modifier> mods;
     std::string name;
     qasm_token at;
-    std::vector<expr> params;
-    std::vector<qubit_index> operands;  // global qubits at top level, argument numbers in a gate body
+    list<expr> params;
+    list<qubit_index> operands;  // global qubits at top level, argument numbers in a gate body
   };
   struct gate_def {
-    std::vector<std::string> params, qubits;
-    std::vector<call> body;
+    list<std::string> params, qubits;
+    list<call> body;
   };
   // A controlled single-qubit gate, or a controlled global phase.
   struct instr {
     gate1 g;
     qubit_index target = 0;
-    std::vector<control> controls;
+    list<control> controls;
     bool is_phase = false;
     double phase = 0;
   };
@@ -626,7 +630,7 @@ class qasm_parser {
     qasm_fail(at, "expression nested more than " + std::to_string(max_expression_depth) + " levels deep");
   }
   // An operator node over `args`.
-  static expr node(char op, std::vector<expr> args, const qasm_token& at, std::string fn = {}) {
+  static expr node(char op, list<expr> args, const qasm_token& at, std::string fn = {}) {
     expr r{op, 0, 0, std::move(fn), std::move(args), 1};
     for (const expr& a : r.args) r.depth = std::max(r.depth, a.depth + 1);
     if (r.depth > max_expression_depth) too_deep(at);
@@ -636,7 +640,7 @@ class qasm_parser {
     expr e = parse_term(def);
     while (lex_.peek().is('+') || lex_.peek().is('-')) {
       const qasm_token op = lex_.next();
-      std::vector<expr> args;
+      list<expr> args;
       args.push_back(std::move(e));
       args.push_back(parse_term(def));
       e = node(op.text[0], std::move(args), op);
@@ -647,7 +651,7 @@ class qasm_parser {
     expr e = parse_unary(def);
     while (lex_.peek().is('*') || lex_.peek().is('/')) {
       const qasm_token op = lex_.next();
-      std::vector<expr> args;
+      list<expr> args;
       args.push_back(std::move(e));
       args.push_back(parse_unary(def));
       e = node(op.text[0], std::move(args), op);
@@ -660,14 +664,14 @@ class qasm_parser {
       const qasm_token sign = lex_.next();
       expr inner = parse_unary(def);
       if (sign.is('+')) return inner;
-      std::vector<expr> args;
+      list<expr> args;
       args.push_back(std::move(inner));
       return node('u', std::move(args), sign);
     }
     expr base = parse_primary(def);
     if (lex_.peek().kind == qasm_token::punct && lex_.peek().text == "**") {
       const qasm_token op = lex_.next();
-      std::vector<expr> args;
+      list<expr> args;
       args.push_back(std::move(base));
       args.push_back(parse_unary(def));
       return node('^', std::move(args), op);
@@ -693,7 +697,7 @@ class qasm_parser {
     for (std::string_view f : {"sin", "cos", "tan", "arcsin", "arccos", "arctan", "exp", "ln", "sqrt"})
       if (t.text == f) {
         expect('(', ("after the function " + std::string(f)).c_str());
-        std::vector<expr> args;
+        list<expr> args;
         args.push_back(parse_expr(def));
         expect(')', "to close the function argument");
         return node('f', std::move(args), t, std::string(f));
@@ -796,7 +800,7 @@ class qasm_parser {
     if (reserved(name.text)) qasm_fail(name, "'" + std::string(name.text) + "' is a keyword");
     if (lookup(name.text)) qasm_fail(name, "gate '" + std::string(name.text) + "' is already defined");
     gate_def def;
-    auto unique = [&](const std::vector<std::string>& names, const qasm_token& t) {
+    auto unique = [&](const list<std::string>& names, const qasm_token& t) {
       if (std::find(names.begin(), names.end(), t.text) != names.end())
         qasm_fail(t, "'" + std::string(t.text) + "' is declared twice in the definition of gate '" + std::string(name.text) + "'");
     };
@@ -954,8 +958,8 @@ class qasm_parser {
                             " gates (gate definitions that call each other multiply); qrm imports at most that many");
   }
   // The parameters of call c, evaluated in env; angles must be finite.
-  std::vector<double> parameters(const call& c, std::span<const double> env) const {
-    std::vector<double> params;
+  list<double> parameters(const call& c, std::span<const double> env) const {
+    list<double> params;
     for (const expr& e : c.params) params.push_back(eval(e, env));
     for (std::size_t i = 0; i < params.size(); ++i)
       if (!std::isfinite(params[i]))
@@ -965,7 +969,7 @@ class qasm_parser {
   }
 
   // The gate `name` on `args` (no modifiers), appended to out.
-  void base(const std::string& name, std::span<const double> p, std::span<const qubit_index> a, std::vector<instr>& out) {
+  void base(const std::string& name, std::span<const double> p, std::span<const qubit_index> a, list<instr>& out) {
     const double pi = std::acos(-1.0);
     const std::size_t before = out.size();
     if (name == "U") {
@@ -1034,12 +1038,12 @@ class qasm_parser {
   }
 
   // The call c (its operands mapped through `qubits` inside a gate body), appended to out.
-  void expand(const call& c, std::span<const double> env, std::span<const qubit_index> qubits, std::vector<instr>& out,
+  void expand(const call& c, std::span<const double> env, std::span<const qubit_index> qubits, list<instr>& out,
               bool top_level = false) {
-    const std::vector<double> params = parameters(c, env);
-    std::vector<qubit_index> q;
+    const list<double> params = parameters(c, env);
+    list<qubit_index> q;
     for (qubit_index o : c.operands) q.push_back(top_level ? o : qubits[o]);
-    std::vector<control> cs;
+    list<control> cs;
     bool inverse = false;
     std::size_t next = 0;
     for (const modifier& m : c.mods) {
@@ -1049,7 +1053,7 @@ class qasm_parser {
       }
       for (std::size_t i = 0; i < m.count; ++i) cs.push_back({q[next++], !m.negative});
     }
-    std::vector<instr> body;
+    list<instr> body;
     base(c.name, params, std::span<const qubit_index>(q).subspan(next), body);
     if (inverse) {
       std::reverse(body.begin(), body.end());
@@ -1065,12 +1069,12 @@ class qasm_parser {
   }
 
   // The matrix of user gate `name` with parameters p, from its body (cached).
-  const dense_matrix& matrix_of(const std::string& name, const std::vector<double>& p, std::size_t k) {
+  const dense_matrix& matrix_of(const std::string& name, const list<double>& p, std::size_t k) {
     auto key = std::make_pair(name, p);
     if (auto it = matrices_.find(key); it != matrices_.end()) return it->second;
-    std::vector<qubit_index> args(k);
+    list<qubit_index> args(k);
     for (std::size_t i = 0; i < k; ++i) args[i] = static_cast<qubit_index>(i);
-    std::vector<instr> body;
+    list<instr> body;
     base(name, p, args, body);
     const std::size_t d = std::size_t{1} << k;
     matrix_work_ += static_cast<std::uint64_t>(body.size()) * d * d;
@@ -1078,7 +1082,7 @@ class qasm_parser {
       qasm_fail(*site_, "gate '" + name + "' is too large to import: the matrices of the gate definitions need more than " +
                             std::to_string(max_matrix_work) + " operations (gate definitions that call each other multiply)");
     dense_matrix m(d);
-    std::vector<complex> v(d);
+    list<complex> v(d);
     for (std::size_t col = 0; col < d; ++col) {
       std::fill(v.begin(), v.end(), complex{});
       v[col] = 1.0;
@@ -1107,8 +1111,8 @@ class qasm_parser {
     const auto user = gates_.find(c.name);
     const std::size_t k = user == gates_.end() ? 0 : user->second.qubits.size();
     if (k >= 1 && k <= 6) {
-      const std::vector<double> params = parameters(c, {});
-      std::vector<control> cs;
+      const list<double> params = parameters(c, {});
+      list<control> cs;
       bool inverse = false;
       std::size_t next = 0;
       for (const modifier& m : c.mods) {
@@ -1119,11 +1123,11 @@ class qasm_parser {
         for (std::size_t i = 0; i < m.count; ++i) cs.push_back({c.operands[next++], !m.negative});
       }
       const dense_matrix& m = matrix_of(c.name, params, k);
-      std::vector<qubit_index> targets(c.operands.begin() + static_cast<std::ptrdiff_t>(next), c.operands.end());
+      list<qubit_index> targets(c.operands.begin() + static_cast<std::ptrdiff_t>(next), c.operands.end());
       ops_.push_back(op::unitary_op{inverse ? adjoint(m) : m, std::move(targets), std::move(cs)});
       return;
     }
-    std::vector<instr> out;
+    list<instr> out;
     expand(c, {}, {}, out, true);
     for (instr& i : out) {
       if (!i.is_phase) {
@@ -1143,12 +1147,12 @@ class qasm_parser {
   }
 
   qasm_lexer<Deferred> lex_;
-  std::vector<reg> regs_;
+  list<reg> regs_;
   std::size_t width_ = 0;
   bool std_included_ = false;
   std::map<std::string, gate_def, std::less<>> gates_;
-  std::map<std::pair<std::string, std::vector<double>>, dense_matrix> matrices_;
-  std::vector<op::any> ops_;
+  std::map<std::pair<std::string, list<double>>, dense_matrix> matrices_;
+  list<op::any> ops_;
   double global_phase_ = 0;
   std::size_t nesting_ = 0;             // current expression nesting while parsing
   std::optional<qasm_token> site_;      // the top-level call being executed

@@ -47,6 +47,7 @@
 #include "../circuit/ops.hpp"
 #include "../circuit/program.hpp"
 #include "../circuit/registers.hpp"
+#include "../support/detail/meta.hpp"
 #include "gates.hpp"
 #include "model.hpp"
 
@@ -111,12 +112,13 @@ inline gate1 sample_rotation(double v) {
 }  // namespace detail
 
 // build_walk_tables(model, start, options): coins, samples and path terms for one start point.
-template <int = 0>
+template <int Deferred = 0>
 inline walk_tables build_walk_tables(const walk_model& m, const walk_start& start, const walk_options& o) {
+  using detail::deferred;
   if (o.channel < 0 || o.channel > 2) throw std::invalid_argument("walk: channel must be 0, 1 or 2");
   if (o.steps < 1 || o.steps > 64) throw std::invalid_argument("walk: steps must be in [1, 64], got " + std::to_string(o.steps));
   const scene& sc = m.scene_data();
-  walk_tables t;
+  deferred<walk_tables, Deferred> t;
   t.steps = o.steps;
   t.variant = o.variant;
   t.prune = o.prune;
@@ -142,14 +144,14 @@ inline walk_tables build_walk_tables(const walk_model& m, const walk_start& star
   const unsigned s = o.steps;
   if (surface) t.march_lookup.resize(s);
   // Voxels whose gates step i needs: before the coin (coin) and after the shift (samples).
-  std::vector<std::vector<std::size_t>> coin_voxels(s), sample_voxels(s);
+  deferred<std::vector<std::vector<std::size_t>>, Deferred> coin_voxels(s), sample_voxels(s);
   if (o.prune == pruning::reachable) {
-    std::set<walk_state> support;
-    std::set<std::pair<std::uint64_t, std::uint64_t>> lookup;
+    deferred<std::set<walk_state>, Deferred> support;
+    deferred<std::set<std::pair<std::uint64_t, std::uint64_t>>, Deferred> lookup;
     for (const auto& [w, a] : init) support.insert(w);
     for (unsigned i = 0; i < s; ++i) {
-      std::set<std::size_t> here, there;
-      std::set<walk_state> next;
+      deferred<std::set<std::size_t>, Deferred> here, there;
+      deferred<std::set<walk_state>, Deferred> next;
       for (const walk_state& w : support) {
         const std::size_t v = m.voxel_of(w.pos);
         here.insert(v);
@@ -170,12 +172,12 @@ inline walk_tables build_walk_tables(const walk_model& m, const walk_start& star
       support = std::move(next);
     }
   } else {
-    std::vector<std::size_t> all(voxels);
+    deferred<std::vector<std::size_t>, Deferred> all(voxels);
     for (std::size_t v = 0; v < voxels; ++v) all[v] = v;
     for (unsigned i = 0; i < s; ++i) coin_voxels[i] = sample_voxels[i] = all;
     if (surface) {
       // Every voxel and direction (the walker sits at voxel centres between steps).
-      std::vector<march_entry> table;
+      deferred<std::vector<march_entry>, Deferred> table;
       for (std::size_t v = 0; v < voxels; ++v)
         for (std::uint32_t d = 0; d < m.direction_count(); ++d) {
           const auto centre = m.centre_of(sc.coords(v));
@@ -189,7 +191,7 @@ inline walk_tables build_walk_tables(const walk_model& m, const walk_start& star
   t.coin_entries.resize(s);
   t.le_entries.resize(s);
   t.rho_entries.resize(s > 0 ? s - 1 : 0);
-  std::vector<std::uint32_t> identity_slot;  // lazily added identity coin, for pruning::none
+  deferred<std::vector<std::uint32_t>, Deferred> identity_slot;  // lazily added identity coin, for pruning::none
   // A start in a medium with every direction (a light-map cell of fog): the uniform
   // superposition stands for light arriving from every direction, the uniform mixture, which
   // any coin maps to itself (a unitary's rows have unit norm, so every first direction stays
@@ -223,12 +225,12 @@ inline walk_tables build_walk_tables(const walk_model& m, const walk_start& star
   // Path terms: term i needs some Le_i and every rho_k (k < i) to be possibly nonzero; with
   // reachable pruning, on one path: an emitter reached at step i through voxels of non-zero
   // reflectance (the live support), so a start whose value is exactly 0 keeps no term.
-  std::vector<bool> live_term(s, true);
+  deferred<std::vector<bool>, Deferred> live_term(s, true);
   if (o.prune == pruning::reachable) {
-    std::set<walk_state> live;
+    deferred<std::set<walk_state>, Deferred> live;
     for (const auto& [w, a] : init) live.insert(w);
     for (unsigned i = 0; i < s; ++i) {
-      std::set<walk_state> next;
+      deferred<std::set<walk_state>, Deferred> next;
       bool fires = false;
       for (const walk_state& w : live)
         for (const auto& [d, amp] : m.scatter(m.voxel_of(w.pos), w.dir)) {

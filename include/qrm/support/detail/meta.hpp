@@ -84,6 +84,15 @@ constexpr std::array<T, N + M> concat(const std::array<T, N>& a, const std::arra
   return r;
 }
 
+// deferred<T, Tag>: T, spelled as a type that depends on a template parameter of the code that
+// names it (see qrm.hpp: clang instantiates what non-dependent code in a template calls).
+template <class T, auto>
+struct deferred_type {
+  using type = T;
+};
+template <class T, auto Tag>
+using deferred = typename deferred_type<T, Tag>::type;
+
 // Always-false helper for static_assert in discarded branches.
 template <class...>
 inline constexpr bool always_false = false;
