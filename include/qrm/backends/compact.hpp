@@ -77,6 +77,7 @@ struct prune_stats {
 // compact_state<S, L>: the nonzero amplitudes of an n-qubit state, starting in |0...0>.
 template <class Scalar = std::complex<double>, class Label = std::uint64_t>
 class compact_state {
+  // Vectors of element types that do not depend on Scalar (see detail::deferred).
   template <class T>
   using list = detail::deferred<std::vector<T>, sizeof(Scalar)>;
 
@@ -132,11 +133,11 @@ class compact_state {
   }
 
   // The state as 2^n dense amplitudes (n <= 32).
-  list<Scalar> to_dense() const {
+  std::vector<Scalar> to_dense() const {
     if (n_ > 32)
       throw std::length_error("compact_state::to_dense: " + std::to_string(n_) +
                               " qubits are too many for a dense vector here (at most 32)");
-    list<Scalar> d(std::size_t{1} << n_, Scalar{});
+    std::vector<Scalar> d(std::size_t{1} << n_, Scalar{});
     for (const entry& e : cur_) d[static_cast<std::size_t>(T::low_u64(e.label))] = e.amp;
     return d;
   }
@@ -145,7 +146,7 @@ class compact_state {
     if (n_ > 62 || amplitudes.size() != (std::size_t{1} << n_))
       throw std::invalid_argument("compact_state::set_amplitudes: got " + std::to_string(amplitudes.size()) +
                                   " amplitudes, need 2^" + std::to_string(n_));
-    list<entry> v;
+    std::vector<entry> v;
     std::size_t count = 0;
     for (const Scalar& a : amplitudes) count += a != Scalar{} ? 1 : 0;
     v.reserve(count);
@@ -300,7 +301,7 @@ class compact_state {
     return acc;
   }
   // Probabilities of every value of the register `bits` (2^k numbers).
-  list<double> distribution(std::span<const qubit_index> bits) const {
+  std::vector<double> distribution(std::span<const qubit_index> bits) const {
     checks().distribution(bits);
     list<double> p(std::size_t{1} << bits.size(), 0.0);
     for (const entry& e : cur_) {
@@ -422,11 +423,11 @@ class compact_state {
     note_peak(memory_bytes() + cap * sizeof(typename V::value_type));
     v.reserve(cap);
   }
-  void push(list<entry>& v, const Label& label, const Scalar& amp) {
+  void push(std::vector<entry>& v, const Label& label, const Scalar& amp) {
     if (v.size() == v.capacity()) grow(v, v.size() + 1);
     v.push_back(entry{label, amp});
   }
-  void append(list<entry>& v, const entry* first, std::size_t count) {
+  void append(std::vector<entry>& v, const entry* first, std::size_t count) {
     grow(v, v.size() + count);
     v.insert(v.end(), first, first + count);
   }
@@ -651,8 +652,8 @@ class compact_state {
     const Label bit = T::bit(t);
     const Label hi_mask = ~T::low_mask(t + 1);
     if (streams_.empty()) streams_.resize(1);
-    list<entry>& out = next_;
-    list<entry>& ones = streams_[0];
+    std::vector<entry>& out = next_;
+    std::vector<entry>& ones = streams_[0];
     out.clear();
     ones.clear();
     grow(out, cur_.size());
@@ -732,12 +733,12 @@ class compact_state {
     const Label keep = ~tmask;
     const Label hi_mask = ~T::low_mask(p + k);
     if (streams_.size() < runs) streams_.resize(runs);
-    list<entry>& out = next_;
+    std::vector<entry>& out = next_;
     out.clear();
     for (std::size_t r = 1; r < runs; ++r) streams_[r].clear();
     grow(out, cur_.size());
     const entry* a = cur_.data();
-    auto stream = [&](std::uint32_t run) -> list<entry>& { return run == 0 ? out : streams_[run]; };
+    auto stream = [&](std::uint32_t run) -> std::vector<entry>& { return run == 0 ? out : streams_[run]; };
     for_each_block(
         hi_mask, cond, [&](std::size_t i, std::size_t j) { append(out, a + i, j - i); },
         [&](std::size_t b, std::size_t e) {
@@ -842,11 +843,11 @@ class compact_state {
         if ((c >> j) & 1u) l = l | T::bit(ts[j]);
       return l;
     };
-    list<entry>& out = next_;
+    std::vector<entry>& out = next_;
     out.clear();
     grow(out, cur_.size());
     list<std::uint32_t> cols;
-    list<Scalar> xs;
+    std::vector<Scalar> xs;
     for (std::size_t i = 0; i < items_.size();) {
       const Label g = items_[i].group;
       std::size_t j = i;
@@ -878,8 +879,8 @@ class compact_state {
   double prune_threshold_ = 0.0;
   prune_stats pruned_;
   std::size_t peak_bytes_ = 0;
-  list<entry> cur_, next_;
-  list<list<entry>> streams_;  // outputs of runs 1.. of a block, appended after run 0
+  std::vector<entry> cur_, next_;
+  std::vector<std::vector<entry>> streams_;  // outputs of runs 1.. of a block, appended after run 0
   list<item> items_;
   list<double> acc_re_, acc_im_;
   list<char> seen_;
