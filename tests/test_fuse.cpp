@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <vector>
@@ -151,7 +152,7 @@ TEST_CASE_TEMPLATE("the decomposed walk fused gives the unfused state", S, std::
   const double bar = std::is_same_v<S, std::complex<double>> ? 1e-12 : 1e-5;
   qrm::state_vector<S> unfused(p.width());
   qrm::run(unfused, p);
-  for (unsigned k = 2; k <= 5; ++k) {
+  for (unsigned k = 2; k <= 6; ++k) {
     qrm::fusion_report rep;
     const qrm::program f = qrm::fuse(p, {k}, &rep);
     qrm::state_vector<S> fused(p.width());
@@ -316,6 +317,46 @@ TEST_CASE("complex<float> in float arithmetic (float_math::single_precision) mat
     }
 }
 
+namespace {
+
+// m applied to a random state against the reference, at every vector level: in complex<double>
+// (bar 1e-12) and in complex<float> with double and float arithmetic (2e-5, against the
+// reference run from the same state rounded to float). Returns the levels run (3).
+int check_at_every_level(const qrm::dense_matrix& m, const std::vector<qubit_index>& ts,
+                         const std::vector<qrm::control>& cs, std::size_t n, qrm::rng& g) {
+  const auto start = random_unit_state(n, g);
+  reference_state ref(n);
+  ref.amp = start;
+  ref.apply_unitary(m, ts, cs);
+  std::vector<std::complex<float>> rounded(start.size());
+  for (std::size_t i = 0; i < start.size(); ++i) rounded[i] = std::complex<float>(start[i]);
+  reference_state ref_f(n);
+  for (std::size_t i = 0; i < start.size(); ++i) ref_f.amp[i] = std::complex<double>(rounded[i]);
+  ref_f.apply_unitary(m, ts, cs);
+  int runs = 0;
+  for (qrm::simd_level level : {qrm::simd_level::generic, qrm::simd_level::avx2, qrm::simd_level::avx512}) {
+    CAPTURE(ts[0]);
+    CAPTURE(static_cast<int>(level));
+    qrm::dense_options o;
+    o.threads = 1;
+    o.simd = level;
+    qrm::state_vector<std::complex<double>> d(n, o);
+    d.set_amplitudes(start);
+    d.apply_unitary(m, ts, cs);
+    CHECK(max_diff(std::vector<std::complex<double>>(d.amplitudes().begin(), d.amplitudes().end()), ref.amp) <= 1e-12);
+    for (bool single : {false, true}) {
+      auto f = float_state(n, level, single, rounded);
+      f.apply_unitary(m, ts, cs);
+      const std::vector<std::complex<double>> got(f.amplitudes().begin(), f.amplitudes().end());
+      CHECK(max_diff(got, ref_f.amp) <= 2e-5);
+    }
+    ++runs;
+  }
+  return runs;
+}
+
+}  // namespace
+
 TEST_CASE("8x8 matrices with at most 4 non-zeros per row (fixed-width rows) match the reference at every level") {
   // Such matrices (most of the fused decomposed walk's blocks) run with 2 or 4 entries per row
   // instead of 8 (dense_batched.hpp): at row-list columns (ell_width) or, when every entry sits
@@ -396,40 +437,84 @@ TEST_CASE("8x8 matrices with at most 4 non-zeros per row (fixed-width rows) matc
       CHECK(qrm::detail::order_blocks(rows).set == c.blocks);
     for (const auto& ts : placements)
       for (const std::vector<qrm::control>& cs : {std::vector<qrm::control>{}, std::vector<qrm::control>{{6, true}}}) {
-        const auto start = random_unit_state(n, g);
-        reference_state ref(n);
-        ref.amp = start;
-        ref.apply_unitary(c.m, ts, cs);
-        std::vector<std::complex<float>> rounded(start.size());
-        for (std::size_t i = 0; i < start.size(); ++i) rounded[i] = std::complex<float>(start[i]);
-        reference_state ref_f(n);
-        for (std::size_t i = 0; i < start.size(); ++i) ref_f.amp[i] = std::complex<double>(rounded[i]);
-        ref_f.apply_unitary(c.m, ts, cs);
-        for (qrm::simd_level level : {qrm::simd_level::generic, qrm::simd_level::avx2, qrm::simd_level::avx512}) {
-          CAPTURE(c.width);
-          CAPTURE(c.offsets);
-          CAPTURE(c.blocks);
-          CAPTURE(c.m.is_real());
-          CAPTURE(ts[0]);
-          CAPTURE(static_cast<int>(level));
-          qrm::dense_options o;
-          o.threads = 1;
-          o.simd = level;
-          qrm::state_vector<std::complex<double>> d(n, o);
-          d.set_amplitudes(start);
-          d.apply_unitary(c.m, ts, cs);
-          CHECK(max_diff(std::vector<std::complex<double>>(d.amplitudes().begin(), d.amplitudes().end()), ref.amp) <= 1e-12);
-          for (bool single : {false, true}) {
-            auto f = float_state(n, level, single, rounded);
-            f.apply_unitary(c.m, ts, cs);
-            const std::vector<std::complex<double>> got(f.amplitudes().begin(), f.amplitudes().end());
-            CHECK(max_diff(got, ref_f.amp) <= 2e-5);
-          }
-          ++runs;
-        }
+        CAPTURE(c.width);
+        CAPTURE(c.offsets);
+        CAPTURE(c.blocks);
+        CAPTURE(c.m.is_real());
+        runs += check_at_every_level(c.m, ts, cs, n, g);
       }
   }
   CHECK(runs == (16 + 14) * 5 * 2 * 3);
+}
+
+TEST_CASE("16x16 to 64x64 matrices with at most 8 non-zeros per row (fixed-width rows) match the reference") {
+  // Fused blocks of 4 to 6 qubits run with 2, 4 or 8 entries per row at listed columns
+  // (ell_width), rows padded with zeros, instead of row lists. Cases: rows of 1..8 entries at
+  // random columns (the widest row sets the form; 9 entries in one row: no fixed width), real
+  // and complex; targets low (no neighbouring bases: row lists), spread and high, with and
+  // without a control; every level, double and float arithmetic. Bars as for the 8x8 forms.
+  qrm::rng g(33);
+  const std::size_t n = 12;
+  auto value = [&](bool complex_values) { return qrm::complex{2 * g.uniform() - 1, complex_values ? 2 * g.uniform() - 1 : 0.0}; };
+  int runs = 0;
+  for (std::size_t dim : {std::size_t{16}, std::size_t{32}, std::size_t{64}})
+    for (bool complex_values : {false, true})
+      for (unsigned widest : {1u, 2u, 3u, 4u, 6u, 8u, 9u}) {
+        qrm::dense_matrix m(dim);
+        for (std::size_t e = 0; e < widest; ++e) m(0, dim - 1 - e) = value(complex_values);
+        for (std::size_t r = 1; r < dim; ++r) {
+          const std::size_t entries = 1 + static_cast<std::size_t>(g.uniform() * std::min(widest, 8u));  // 1..widest
+          for (std::size_t e = 0; e < entries; ++e)
+            m(r, static_cast<std::size_t>(g.uniform() * static_cast<double>(dim))) = value(complex_values);
+        }
+        const unsigned expected = widest <= 2 ? 2 : widest <= 4 ? 4 : widest <= 8 ? 8 : 0;
+        CAPTURE(dim);
+        CAPTURE(widest);
+        CAPTURE(complex_values);
+        CHECK(qrm::detail::ell_width(qrm::detail::csr_matrix::of(m)) == expected);
+        const std::size_t k = std::bit_width(dim) - 1;
+        const std::vector<std::vector<qubit_index>> placements = {
+            {0, 1, 2, 3, 4, 5}, {1, 3, 5, 7, 9, 11}, {11, 10, 9, 8, 7, 5}};
+        for (const auto& all : placements) {
+          const std::vector<qubit_index> ts(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(k));
+          for (const std::vector<qrm::control>& cs : {std::vector<qrm::control>{}, std::vector<qrm::control>{{6, false}}}) {
+            runs += check_at_every_level(m, ts, cs, n, g);
+          }
+        }
+      }
+  CHECK(runs == 3 * 2 * 7 * 3 * 2 * 3);
+}
+
+TEST_CASE("a fused block drops the rounding residue of its product, and only that") {
+  // Phases that cancel and rotations by pi leave parts near 1e-17 where the product is exactly
+  // 0 (fuse.hpp, drop_rounding_residue); kept, they make the block complex and dense to the
+  // kernels. CX, P(t), Ry(pi), P(-t), CX on two qubits is real with one non-zero per row; an
+  // Ry by 1e-13 (entries of 5e-14, far above the residue) survives.
+  const double t = 0.3;
+  qrm::program p(2);
+  p.push(qrm::op::gate1_op{qrm::gate::x(), 1, {{0, true}}});
+  p.push(qrm::op::gate1_op{qrm::gate::phase(t), 0, {}});
+  p.push(qrm::op::gate1_op{qrm::gate::ry(std::acos(-1.0)), 1, {}});
+  p.push(qrm::op::gate1_op{qrm::gate::phase(-t), 0, {}});
+  p.push(qrm::op::gate1_op{qrm::gate::x(), 1, {{0, true}}});
+  const qrm::program fused = qrm::fuse(p, {2});
+  REQUIRE(fused.size() == 1);
+  const auto& block = std::get<qrm::op::unitary_op>(fused.ops()[0]).matrix;
+  CHECK(block.is_real());
+  for (std::size_t r = 0; r < 4; ++r) {
+    std::size_t nonzero = 0;
+    for (std::size_t c = 0; c < 4; ++c) nonzero += block(r, c) != qrm::complex{};
+    CHECK(nonzero == 1);
+  }
+  qrm::program q(2);
+  q.push(qrm::op::gate1_op{qrm::gate::ry(1e-13), 0, {}});
+  q.push(qrm::op::gate1_op{qrm::gate::x(), 1, {{0, true}}});
+  const qrm::program fused_q = qrm::fuse(q, {2});
+  REQUIRE(fused_q.size() == 1);
+  const auto& kept = std::get<qrm::op::unitary_op>(fused_q.ops()[0]).matrix;
+  std::size_t tiny = 0;
+  for (const qrm::complex& z : kept.data) tiny += z != qrm::complex{} && std::abs(z) < 1e-12;
+  CHECK(tiny == 4);  // the rotation's two off-diagonal entries, once for each value of qubit 1
 }
 
 TEST_CASE("8x8 matrices with targets among the lanes of one register match the reference") {
@@ -651,4 +736,83 @@ TEST_CASE("fusion refuses a width outside 1..6") {
   const qrm::program p(2);
   CHECK_THROWS_WITH_AS(qrm::fuse(p, {0}), "fuse: max_qubits must be 1..6, got 0", std::invalid_argument);
   CHECK_THROWS_WITH_AS(qrm::fuse(p, {7}), "fuse: max_qubits must be 1..6, got 7", std::invalid_argument);
+}
+
+TEST_CASE("estimated_passes follows its cost model, op by op") {
+  // The model (fuse.hpp): 1-qubit gates 2^-controls passes (at least 1/8); a k-qubit matrix
+  // max(1, 0.4 + 0.03 d + 0.28 w) for d = 2^k and w its widest row, 0.4 + 0.1 d when dense and
+  // d <= 16, twice that with a target on qubits 0-2. Each case alone, then summed.
+  qrm::rng g(41);
+  qrm::dense_matrix dense8(8), perm8(8), pairs64(64);
+  for (std::size_t r = 0; r < 8; ++r) {
+    for (std::size_t c = 0; c < 8; ++c) dense8(r, c) = qrm::complex{g.uniform() + 0.1, 0.0};
+    perm8(r, (r + 3) % 8) = 1;
+  }
+  for (std::size_t r = 0; r < 64; ++r) pairs64(r, r) = pairs64(r, r ^ 5) = 0.5;
+  const std::vector<std::pair<qrm::op::any, double>> cases = {
+      {qrm::op::gate1_op{qrm::gate::h(), 5, {}}, 1.0},
+      {qrm::op::gate1_op{qrm::gate::x(), 1, {{0, true}}}, 0.5},
+      {qrm::op::gate1_op{qrm::gate::x(), 2, {{0, true}, {1, true}}}, 0.25},
+      {qrm::op::gate1_op{qrm::gate::x(), 8, {{0, true}, {1, true}, {2, true}, {3, true}}}, 0.125},
+      {qrm::op::unitary_op{dense8, {3, 4, 5}, {}}, 0.4 + 0.8},
+      {qrm::op::unitary_op{dense8, {0, 4, 5}, {}}, 2 * (0.4 + 0.8)},
+      {qrm::op::unitary_op{perm8, {3, 4, 5}, {}}, 1.0},
+      {qrm::op::unitary_op{pairs64, {3, 4, 5, 6, 7, 8}, {}}, 0.4 + 0.03 * 64 + 0.28 * 2},
+      {qrm::op::unitary_op{pairs64, {3, 4, 5, 6, 7, 8}, {{0, false}}}, (0.4 + 0.03 * 64 + 0.28 * 2) / 2},
+      {qrm::op::add_op{1, {3, 4, 5}, {}}, 1.0},
+  };
+  qrm::program all(9);
+  double sum = 0;
+  for (const auto& c : cases) {
+    const double passes = c.second;
+    qrm::program one(9);
+    one.push(c.first);
+    all.push(c.first);
+    sum += passes;
+    CAPTURE(passes);
+    CHECK(qrm::estimated_passes(one) == doctest::Approx(passes).epsilon(1e-12));
+  }
+  CHECK(qrm::estimated_passes(all) == doctest::Approx(sum).epsilon(1e-12));
+}
+
+TEST_CASE("fuse_cheapest keeps the width the cost model rates cheapest, and the state") {
+  // Candidates 3..6. The decomposed walk's blocks are sparse (permutations and rotations), so a
+  // wide block replaces many gates at a small cost; dense random 1-qubit gates and CNOTs make
+  // dense blocks whose cost grows with the width, so 3 wins. Either way the result is
+  // fuse(p, {chosen}) and runs to the unfused state.
+  const qrm::walk_model m(qrm::paper_4x4(), qrm::king_2d());
+  qrm::walk_options o;
+  o.steps = 2;
+  o.prune = qrm::pruning::reachable;
+  const qrm::program walk = qrm::decompose(qrm::make_walk_program(m, m.light_map_start({1, 2, 0}), o).circuit).circuit;
+  qrm::rng g(42);
+  qrm::program dense(12);
+  for (int i = 0; i < 400; ++i) {
+    const auto a = static_cast<qubit_index>(g.below(12)), b = static_cast<qubit_index>((a + 1 + g.below(11)) % 12);
+    if (i % 3 == 2)
+      dense.push(qrm::op::gate1_op{qrm::gate::x(), b, {{a, true}}});
+    else
+      dense.apply_gate1(random_gate1_unitary(g, false), a, {});
+  }
+  for (const qrm::program* p : std::array<const qrm::program*, 2>{&walk, &dense}) {
+    qrm::fusion_report chosen;
+    const qrm::program f = qrm::fuse_cheapest(*p, &chosen);
+    CAPTURE(chosen.max_qubits);
+    CHECK(chosen.estimated_passes == qrm::estimated_passes(f));
+    for (unsigned k = 3; k <= 6; ++k) {
+      qrm::fusion_report rep;
+      const qrm::program fk = qrm::fuse(*p, {k}, &rep);
+      CHECK(chosen.estimated_passes <= rep.estimated_passes);
+      if (k == chosen.max_qubits) CHECK(fk.size() == f.size());
+    }
+    CHECK((p == &walk ? chosen.max_qubits > 3 : chosen.max_qubits == 3));
+    MESSAGE(std::string(p == &walk ? "decomposed walk" : "dense random") << ": width " << chosen.max_qubits << ", "
+            << chosen.ops_out << " ops, estimated " << chosen.estimated_passes << " passes");
+    qrm::state_vector<std::complex<double>> a(p->width()), b(p->width());
+    qrm::run(a, *p);
+    qrm::run(b, f);
+    double d = 0;
+    for (std::size_t i = 0; i < a.amplitudes().size(); ++i) d = std::max(d, std::abs(a.amplitudes()[i] - b.amplitudes()[i]));
+    CHECK(d <= 1e-12);
+  }
 }

@@ -159,7 +159,10 @@ flag_table simulate_flags() {
        "amplitude type (real types need a circuit of real gates)", run},
       {"backend", "dense|compact", "dense",
        "the dense state vector, or the compact backend (only the nonzero amplitudes; one thread)", run},
-      {"fuse", "K|on|off", "3", "multiply runs of gates on at most K qubits (1..6; on: 3) into one matrix", run},
+      {"fuse", "auto|K|on|off", "auto",
+       "multiply runs of gates on at most K qubits (1..6) into one matrix; auto (or on): the K from 3 to 6 whose "
+       "fused circuit qrm::estimated_passes rates cheapest",
+       run},
       {"threads", "T", "0", "threads of the dense backend (0: every core)", run},
       {"simd", "auto|generic|avx2|avx512", "auto",
        "vector instructions of the fused-matrix kernels (a level the CPU lacks runs the best below it)", run},
@@ -205,12 +208,15 @@ int cmd_simulate(args& a) {
     throw usage_error("--arithmetic must be double or float, got '" + arithmetic + "'");
   if (arithmetic == "float" && (scalar != "complex-float" || compact))
     throw usage_error("--arithmetic float applies to --scalar complex-float on --backend dense");
-  const std::string fuse_arg = a.str("fuse", "3") == "on" ? "3" : a.str("fuse", "3");
+  const std::string fuse_arg = a.str("fuse", "auto") == "on" ? "auto" : a.str("fuse", "auto");
+  const bool fuse_auto = fuse_arg == "auto";
   unsigned fuse_width = 0;
-  if (fuse_arg != "off") {
+  if (fuse_auto) {
+    fuse_width = 3;  // replaced by the width fuse_cheapest chooses
+  } else if (fuse_arg != "off") {
     if (fuse_arg.empty() || fuse_arg.find_first_not_of("0123456789") != std::string::npos || fuse_arg.size() > 2 ||
         std::stoi(fuse_arg) < 1 || std::stoi(fuse_arg) > 6)
-      throw usage_error("--fuse must be a width 1..6, on or off, got '" + fuse_arg + "'");
+      throw usage_error("--fuse must be a width 1..6, auto, on or off, got '" + fuse_arg + "'");
     fuse_width = static_cast<unsigned>(std::stoi(fuse_arg));
   }
   const auto threads = static_cast<unsigned>(a.integer("threads", 0, 0, 1024));
@@ -239,7 +245,7 @@ int cmd_simulate(args& a) {
   const char* simd_used = qrm::simd_level_name(qrm::detail::resolve_simd(simd));
   const std::string format = a.str("format", "json");
   if (format != "json" && format != "text") throw usage_error("--format must be json or text, got '" + format + "'");
-  if (compare && fuse_width == 0) throw usage_error("--compare compares fused with unfused; it needs --fuse K, not off");
+  if (compare && fuse_width == 0) throw usage_error("--compare compares fused with unfused; it needs --fuse K or auto, not off");
 
   std::string source;
   qrm::program p;
@@ -273,7 +279,8 @@ int cmd_simulate(args& a) {
   qrm::program fused;
   if (fuse_width) {
     const auto t0 = std::chrono::steady_clock::now();
-    fused = qrm::fuse(p, {fuse_width}, &rep);
+    fused = fuse_auto ? qrm::fuse_cheapest(p, &rep) : qrm::fuse(p, {fuse_width}, &rep);
+    fuse_width = rep.max_qubits;
     fuse_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   run_settings rs;
@@ -293,8 +300,9 @@ int cmd_simulate(args& a) {
   if (format == "text") {
     std::printf("circuit   %s: %zu qubits, %zu ops\n", source.c_str(), p.width(), p.size());
     if (fuse_width)
-      std::printf("fused     %zu ops (%zu blocks of up to %u qubits) in %.3g s\n", rep.ops_out, rep.fused_blocks,
-                  fuse_width, fuse_seconds);
+      std::printf("fused     %zu ops (%zu blocks of up to %u qubits%s; estimated %.4g passes) in %.3g s\n", rep.ops_out,
+                  rep.fused_blocks, fuse_width, fuse_auto ? ", the width chosen by cost" : "", rep.estimated_passes,
+                  fuse_seconds);
     if (compact)
       std::printf("run       %s, compact backend: %.6g s (fastest of %u)\n", scalar.c_str(), fastest(main_run), repeat);
     else
@@ -321,7 +329,8 @@ int cmd_simulate(args& a) {
   if (scalar == "complex-float" && !compact) j.add("arithmetic", arithmetic);
   j.add("repeat", repeat);
   if (fuse_width) {
-    j.add("fuse", fuse_width).add("fused_ops", rep.ops_out).add("fused_blocks", rep.fused_blocks);
+    j.add("fuse", fuse_width).add("fuse_width_chosen", fuse_auto).add("estimated_passes", rep.estimated_passes);
+    j.add("fused_ops", rep.ops_out).add("fused_blocks", rep.fused_blocks);
     j.add("blocks_by_width", json_array::of(rep.blocks_by_width)).add("fuse_seconds", fuse_seconds);
   } else {
     j.add("fuse", "off").add("fused_ops", p.size());  // unfused: every gate is its own op

@@ -111,7 +111,7 @@ def main():
         for scalar in scalars:
             tolerance = 1e-12 if "double" in scalar else 1e-5
             for backend in ("dense", "compact"):
-                for fuse in ("off", "on", "5"):
+                for fuse in ("off", "on", "3", "5"):
                     out = os.path.join(work, "state.bin")
                     if os.path.exists(out):
                         os.remove(out)
@@ -194,7 +194,7 @@ def main():
         (["--random", "10", "--backend", "compact", "--simd", "avx2"], "--simd applies to --backend dense"),
         (["--random", "10", "--arithmetic", "half"], "--arithmetic must be double or float, got 'half'"),
         (["--random", "10", "--arithmetic", "float"], "--arithmetic float applies to --scalar complex-float on --backend dense"),
-        (["--random", "10", "--fuse", "9"], "--fuse must be a width 1..6, on or off, got '9'"),
+        (["--random", "10", "--fuse", "9"], "--fuse must be a width 1..6, auto, on or off, got '9'"),
         (["--random", "10", "--chunk", "0"], "--chunk must be a size in KiB from 1 to 1048576, or off, got '0'"),
         (["--random", "10", "--chunk", "1M"], "--chunk must be a size in KiB from 1 to 1048576, or off, got '1M'"),
         (["--random", "10", "--backend", "compact", "--chunk", "64"], "--chunk applies to --backend dense"),

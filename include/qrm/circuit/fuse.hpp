@@ -19,11 +19,18 @@
 // state or less) close the blocks they touch and pass through unchanged. A block holding a single op is written unchanged (its kernel may
 // be cheaper than a dense matrix's: X is a swap, a controlled gate visits only its subspace);
 // a block of single-qubit gates on one qubit becomes one gate1.
+//
+// Which width pays depends on the circuit: a fused block of 6 qubits whose rows hold two
+// non-zeros (the decomposed walk: permutations and rotations) costs the dense backend about 2.5
+// passes and replaces ~60 gates; a dense one (random rotations) costs ~20. fuse_cheapest(p)
+// fuses at every width from 3 to 6 and keeps the program estimated_passes rates cheapest.
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -35,12 +42,14 @@
 namespace qrm {
 
 struct fusion_options {
-  unsigned max_qubits = 3;  // widest fused block, 1..6; 3 measured fastest (bench/RESULTS.md)
+  unsigned max_qubits = 3;  // widest fused block, 1..6; 3 suits dense circuits (fuse_cheapest chooses by cost)
   bool merge_disjoint = true;  // an op touching no open block joins one with room (tensor product)
 };
 
 // What fuse() did.
 struct fusion_report {
+  unsigned max_qubits = 0;  // the widest block allowed (fuse_cheapest: the width it chose)
+  double estimated_passes = 0;  // of the fused program (see estimated_passes)
   std::size_t ops_in = 0, ops_out = 0;
   std::size_t fused_blocks = 0;  // ops written as a product of two or more ops
   std::size_t passed_through = 0;  // ops that could not join a block
@@ -79,6 +88,7 @@ inline void fold_gate1(dense_matrix& m, const op::gate1_op& o, const std::vector
     if ((i & t) || (i & cmask) != cvalue) continue;
     for (std::size_t col = 0; col < dim; ++col) {
       const complex x = m(i, col), y = m(i | t, col);
+      if (x == complex{} && y == complex{}) continue;  // blocks stay sparse: most columns are zero here
       m(i, col) = g.m[0][0] * x + g.m[0][1] * y;
       m(i | t, col) = g.m[1][0] * x + g.m[1][1] * y;
     }
@@ -116,6 +126,18 @@ inline void fold_unitary(dense_matrix& m, const op::unitary_op& o, const std::ve
   }
 }
 
+// Zeroes the real and imaginary parts of a fused block that are no larger than the rounding
+// error of its own product (`folded` products, each adding a few units in the last place to an
+// entry of at most 1): what should be exact zeros (cos(pi/2), phases that cancel) comes out
+// near 1e-17, and would make a block look dense and complex to the kernels (the decomposed walk
+// fused at 5 qubits: 18,200 entries of magnitude 1e-65 to 1e-16, beside 15,300 of 1e-2 or more).
+template <int = 0>
+inline void drop_rounding_residue(dense_matrix& m, std::size_t folded) {
+  const double tolerance = 8 * std::numeric_limits<double>::epsilon() * static_cast<double>(folded);
+  for (complex& z : m.data)
+    z = complex(std::abs(z.real()) <= tolerance ? 0.0 : z.real(), std::abs(z.imag()) <= tolerance ? 0.0 : z.imag());
+}
+
 // Qubits of a fusable op (gate1 or unitary, controls included), or empty when it cannot join.
 template <int = 0>
 inline std::vector<qubit_index> fusable_qubits(const op::any& o) {
@@ -131,6 +153,44 @@ inline std::size_t control_count(const op::any& o) {
 }
 
 }  // namespace detail
+
+// What the dense backend is expected to spend on a program, in passes over the state (one pass:
+// a 1-qubit gate). A gate under c controls visits 2^-c of the state (at least 1/8: below that
+// its runs are too short to save whole cache lines). A k-qubit matrix op costs by its rows'
+// widest count of non-zeros w (the fixed-width forms) and its dimension d = 2^k (the columns
+// each base loads): max(1, 0.4 + 0.03 d + 0.28 w), or 0.4 + 0.1 d when it is dense and d <= 16
+// (the unrolled dense form), twice that with a target on qubits 0-2 (bases gathered instead of
+// neighbours). Other ops: one pass. Fitted to ops timed one by one (complex<float>, float
+// arithmetic, one thread, AMD EPYC VM, 2026-12-05): the fused decomposed walk (21 qubits, in
+// the last-level cache) and the random suite (24 qubits, from memory) at widths 2 to 6. Rough
+// (single ops off by up to 2x), but it picks the fastest width of both (bench/RESULTS.md).
+template <int = 0>
+double estimated_passes(const program& p) {
+  const auto under_controls = [](std::size_t controls) {
+    return std::max(std::ldexp(1.0, -static_cast<int>(std::min<std::size_t>(controls, 3))), 0.125);
+  };
+  double passes = 0;
+  for (const op::any& o : p.ops()) {
+    if (const auto* g = std::get_if<op::gate1_op>(&o)) {
+      passes += under_controls(g->controls.size());
+    } else if (const auto* u = std::get_if<op::unitary_op>(&o)) {
+      const std::size_t d = u->matrix.dim;
+      std::size_t w = 0;
+      for (std::size_t r = 0; r < d; ++r) {
+        std::size_t row = 0;
+        for (std::size_t c = 0; c < d; ++c) row += u->matrix(r, c) != complex{};
+        w = std::max(w, row);
+      }
+      const auto dd = static_cast<double>(d), dw = static_cast<double>(w);
+      double cost = d <= 4 ? 1.0 : d <= 16 && 2 * w > d ? 0.4 + 0.1 * dd : std::max(1.0, 0.4 + 0.03 * dd + 0.28 * dw);
+      if (std::any_of(u->targets.begin(), u->targets.end(), [](qubit_index t) { return t < 3; })) cost *= 2;
+      passes += cost * under_controls(u->controls.size());
+    } else {
+      passes += 1;
+    }
+  }
+  return passes;
+}
 
 // fuse(p, options, report): p with runs of small gates multiplied into dense unitary ops on at
 // most options.max_qubits qubits (see the top of this header).
@@ -167,6 +227,7 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
         else
           detail::fold_unitary(m, *std::get_if<op::unitary_op>(&o), blk.qubits);
       }
+      detail::drop_rounding_residue(m, blk.ops.size());
       out.enter_layer(p.layer_of(blk.ops[0]));
       if (blk.qubits.size() == 1)
         out.push(op::gate1_op{gate::u(m(0, 0), m(0, 1), m(1, 0), m(1, 1)), blk.qubits[0], {}});
@@ -268,8 +329,30 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
   for (std::size_t b = 0; b < blocks.size(); ++b)
     if (!blocks[b].ops.empty()) close(b);
   rep.ops_out = out.size();
+  rep.max_qubits = options.max_qubits;
+  rep.estimated_passes = estimated_passes(out);
   if (report) *report = std::move(rep);
   return out;
+}
+
+// fuse_cheapest(p, report): fuse() at the width from 3 to 6 (merge_disjoint on) whose program
+// estimated_passes rates cheapest, the narrowest on a tie. Narrower widths are not candidates:
+// at 2 the estimate undercounts the many cheap controlled gates a circuit keeps (the random
+// suite: rated below width 3, its ops timed one by one took 1.17x as long).
+template <int = 0>
+program fuse_cheapest(const program& p, fusion_report* report = nullptr) {
+  program best;
+  fusion_report best_report;
+  for (unsigned k = 3; k <= 6; ++k) {
+    fusion_report rep;
+    program f = fuse(p, {k}, &rep);
+    if (k == 3 || rep.estimated_passes < best_report.estimated_passes) {
+      best = std::move(f);
+      best_report = std::move(rep);
+    }
+  }
+  if (report) *report = std::move(best_report);
+  return best;
 }
 
 }  // namespace qrm

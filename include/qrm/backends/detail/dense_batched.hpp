@@ -91,14 +91,17 @@ struct csr_matrix {
   }
 };
 
-// Entries per row of the fixed-width form csr_range_body runs an 8x8 matrix in (2 or 4: rows
-// padded with zeros), or 0 when a row has more than 4 non-zeros or the matrix is not 8x8.
+// Entries per row of the fixed-width form csr_range_body runs a matrix of 8 to 64 rows in (2, 4,
+// or 8 above 8 rows: rows padded with zeros), or 0 when a row has more. Fused blocks of 4 to 6
+// qubits are mostly this sparse (the decomposed walk fused at 5: 102 of its 126 blocks of 32
+// rows have at most 4 entries per row, 123 at most 8; at 6: 73 of 76 blocks of 64 rows at most 8).
+inline constexpr unsigned ell_max_entries = 64 * 8;
 template <int = 0>
 inline unsigned ell_width(const csr_matrix& m) {
-  if (m.dim != 8) return 0;
+  if (m.dim != 8 && m.dim != 16 && m.dim != 32 && m.dim != 64) return 0;
   std::uint32_t widest = 0;
-  for (std::size_t r = 0; r < 8; ++r) widest = std::max(widest, m.row_start[r + 1] - m.row_start[r]);
-  return widest <= 2 ? 2 : widest <= 4 ? 4 : 0;
+  for (std::size_t r = 0; r < m.dim; ++r) widest = std::max(widest, m.row_start[r + 1] - m.row_start[r]);
+  return widest <= 2 ? 2 : widest <= 4 ? 4 : widest <= 8 && m.dim > 8 ? 8 : 0;
 }
 
 // The set D of offsets d = row ^ column of an 8x8 matrix's non-zeros, when it lies within one of
@@ -242,8 +245,8 @@ struct csr_job {
   const float* dense_im_f = nullptr;
   const float* rows_re_f = nullptr;
   const float* rows_im_f = nullptr;
-  // Rows of exactly ell_k entries (padded with zeros), when every row of an 8x8 matrix has at
-  // most 4 non-zeros: fixed trip counts without the dense form's zero products.
+  // Rows of exactly ell_k entries (padded with zeros), when every row has at most that many
+  // non-zeros (see ell_width): fixed trip counts without the dense form's zero products.
   unsigned ell_k = 0;
   // Or, with ell_xor set (see xor_offset_set), entry e of row r is the one at column r ^ d_e, d_e
   // the e-th offset of the set (ell_col unused).
@@ -374,7 +377,7 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
       // fused 21-qubit walk: 0.155 -> 0.170 s with it), but need it where it streams from memory
       // (offsets {0, 1, 4, 5} on targets 4, 8, 9, n = 24: 13 ms without, 5.5 ms with).
       if constexpr (Contiguous)
-        if ((XorSet == 0 || std::is_same_v<A, double> || job.streams) && (b & (64 / sizeof(S) - 1)) == 0)
+        if (((XorSet == 0 && K == 0) || std::is_same_v<A, double> || job.streams) && (b & (64 / sizeof(S) - 1)) == 0)
           for (std::size_t c = 0; c < dim; ++c)
             prefetch_for_write(p, 2 * (b + load_off[c]) + 8192 / sizeof(R));
       for (std::size_t c = 0; c < dim; ++c) {
@@ -539,8 +542,20 @@ void csr_range(const csr_job<S>& job, const subspace& s, const std::uint64_t* g,
       case 0x33: return csr_range_dim<S, A, N, Contiguous, 8, 0, 0x33>(job, s, g, k0, k1);
       default: break;
     }
-    if (job.ell_k == 2) return csr_range_dim<S, A, N, Contiguous, 8, 2>(job, s, g, k0, k1);
-    if (job.ell_k == 4) return csr_range_dim<S, A, N, Contiguous, 8, 4>(job, s, g, k0, k1);
+    switch (job.m->dim * 16 + job.ell_k) {
+      case 8 * 16 + 2: return csr_range_dim<S, A, N, Contiguous, 8, 2>(job, s, g, k0, k1);
+      case 8 * 16 + 4: return csr_range_dim<S, A, N, Contiguous, 8, 4>(job, s, g, k0, k1);
+      case 16 * 16 + 2: return csr_range_dim<S, A, N, Contiguous, 16, 2>(job, s, g, k0, k1);
+      case 16 * 16 + 4: return csr_range_dim<S, A, N, Contiguous, 16, 4>(job, s, g, k0, k1);
+      case 16 * 16 + 8: return csr_range_dim<S, A, N, Contiguous, 16, 8>(job, s, g, k0, k1);
+      case 32 * 16 + 2: return csr_range_dim<S, A, N, Contiguous, 32, 2>(job, s, g, k0, k1);
+      case 32 * 16 + 4: return csr_range_dim<S, A, N, Contiguous, 32, 4>(job, s, g, k0, k1);
+      case 32 * 16 + 8: return csr_range_dim<S, A, N, Contiguous, 32, 8>(job, s, g, k0, k1);
+      case 64 * 16 + 2: return csr_range_dim<S, A, N, Contiguous, 64, 2>(job, s, g, k0, k1);
+      case 64 * 16 + 4: return csr_range_dim<S, A, N, Contiguous, 64, 4>(job, s, g, k0, k1);
+      case 64 * 16 + 8: return csr_range_dim<S, A, N, Contiguous, 64, 8>(job, s, g, k0, k1);
+      default: break;
+    }
   }
   if (job.dense_re) {
     switch (job.m->dim) {

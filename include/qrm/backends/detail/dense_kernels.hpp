@@ -480,15 +480,15 @@ void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qub
         job.dense_re = re.data();
         job.dense_im = im.data();
       }
-      std::array<std::uint8_t, 32> ell_col{};
-      std::array<double, 32> ell_re{}, ell_im{};
-      std::array<float, 32> ell_re_f{}, ell_im_f{};
+      std::array<std::uint8_t, ell_max_entries> ell_col{};
+      std::array<double, ell_max_entries> ell_re{}, ell_im{};
+      std::array<float, ell_max_entries> ell_re_f{}, ell_im_f{};
       if (const unsigned k = form.width) {
         // Row r's entries: at columns r ^ d (d from the offset set, fixed at compile time), or
         // at listed columns padded to k.
         const unsigned set = form.set;
         const auto w = set ? static_cast<unsigned>(std::popcount(set)) : k;
-        for (std::size_t r = 0; r < 8; ++r)
+        for (std::size_t r = 0; r < m.dim; ++r)
           for (unsigned e = 0; e < w; ++e) {
             const std::uint32_t at_row = rows.row_start[r] + e;
             const bool listed = at_row < rows.row_start[r + 1];
