@@ -7,8 +7,9 @@
 // as two fused multiply-adds (z * m = re(m) z + im(m) (-im z, re z)), and stored back; where the
 // bases come in runs of at least two (no target or control on qubit 0), two neighbouring bases
 // share each 256-bit vector. Dense matrices of 4, 8 and 16 rows run with every loop unrolled;
-// sparse ones (a fused permutation: one product per amplitude) and wider ones by lists of each
-// row's non-zero entries.
+// sparse ones of 8 to 64 rows (a fused permutation times rotations: 2 to 8 products per
+// amplitude) with a fixed count of entries per row, and the rest by lists of each row's
+// non-zero entries.
 //
 // Arithmetic is in double for both storage types (see dense_kernels.hpp), unless a complex<float>
 // state asks for float arithmetic (qrm::float_math): then eight (AVX-512) or four (AVX2)
@@ -94,7 +95,7 @@ struct csr_matrix {
 // Entries per row of the fixed-width form csr_range_body runs a matrix of 8 to 64 rows in (2, 4,
 // or 8 above 8 rows: rows padded with zeros), or 0 when a row has more. Fused blocks of 4 to 6
 // qubits are mostly this sparse (the decomposed walk fused at 5: 102 of its 126 blocks of 32
-// rows have at most 4 entries per row, 123 at most 8; at 6: 73 of 76 blocks of 64 rows at most 8).
+// rows have at most 4 entries per row, 123 at most 8; at 6: 73 of 75 blocks of 64 rows at most 8).
 inline constexpr unsigned ell_max_entries = 64 * 8;
 template <int = 0>
 inline unsigned ell_width(const csr_matrix& m) {
@@ -372,10 +373,11 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
     for (std::uint64_t b = first; b < first + len; b += Contiguous ? N : 1) {
       // Each column is its own stream, and streams 2^t apart that jump every 2^t amplitudes
       // defeat the hardware prefetcher (see for_each_pair): fetch each one's line 8 KiB ahead
-      // (an 8x8 real matrix on targets 4, 8, 9, n = 24: 7.0 -> 5.1 ms). The offset-set forms in
-      // float arithmetic have too few products to hide it where the state sits in a cache (the
-      // fused 21-qubit walk: 0.155 -> 0.170 s with it), but need it where it streams from memory
-      // (offsets {0, 1, 4, 5} on targets 4, 8, 9, n = 24: 13 ms without, 5.5 ms with).
+      // (an 8x8 real matrix on targets 4, 8, 9, n = 24: 7.0 -> 5.1 ms). The offset-set and
+      // fixed-width forms in float arithmetic have too few products to hide it where the state
+      // sits in a cache (the fused 21-qubit walk: 0.155 -> 0.170 s with it at width 3; 0.096-0.099
+      // -> 0.100-0.126 s at width 6), but need it where it streams from memory (offsets
+      // {0, 1, 4, 5} on targets 4, 8, 9, n = 24: 13 ms without, 5.5 ms with).
       if constexpr (Contiguous)
         if (((XorSet == 0 && K == 0) || std::is_same_v<A, double> || job.streams) && (b & (64 / sizeof(S) - 1)) == 0)
           for (std::size_t c = 0; c < dim; ++c)
@@ -530,8 +532,8 @@ void csr_range_dim(const csr_job<S>& job, const subspace& s, const std::uint64_t
   csr_range_isa<S, A, N, Contiguous, false, Dim, K, XorSet>(job, s, g, k0, k1);
 }
 
-// Dense matrices of 4, 8 or 16 rows run with unrolled loops; sparse ones (and 32, 64 rows) by
-// row lists. `s` and `g` are a base_groups' bases and offsets.
+// Sparse matrices of 8 to 64 rows run at a fixed count of entries per row (see ell_width), dense
+// ones of 4, 8 or 16 rows with unrolled loops, the rest by row lists. `s` and `g` are a base_groups' bases and offsets.
 template <class S, unsigned N, bool Contiguous, class A = double>
 void csr_range(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
   if constexpr (Contiguous) {  // the fixed-width forms only where bases are neighbours (see csr_range_dim)
