@@ -364,6 +364,14 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
   }
   const std::uint8_t* ell_col = job.ell_col;
   R* p = reinterpret_cast<R*>(job.a);
+  // The offsets in locals where their count is fixed: stores through p (memcpy) may alias the
+  // job's arrays, so the compiler reloaded every offset on every iteration.
+  std::uint64_t store_local[Dim ? Dim : 1], load_local[Dim ? Dim : 1];
+  if constexpr (Dim != 0) {
+    for (std::size_t i = 0; i < Dim; ++i) store_local[i] = off[i], load_local[i] = load_off[i];
+    off = store_local;
+    load_off = load_local;
+  }
   vec x[vector_kernel_max_dim];
   vec sign;
   for (unsigned l = 0; l < 2 * N; ++l) sign[l] = (l % 2 == 0) ? -1.0 : 1.0;

@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -173,6 +174,7 @@ struct chunk_sink {
   const std::array<signed char, 64>* local_of;
   std::uint64_t base;  // the chunk's bits outside L, at their positions in the state
   exec_policy ex;
+  const unitary_plan<S>* plan = nullptr;  // the plan of the unitary op about to be emitted, if any
 
   unsigned local(qubit_index q) const { return static_cast<unsigned>((*local_of)[q]); }
   // Local masks of the controls; false if a control outside the chunk does not hold in it.
@@ -208,7 +210,10 @@ struct chunk_sink {
     std::array<qubit_index, 64> tb;
     if (!condition(cs, cm, cv)) return;
     const auto lt = renumber(targets, tb, tm);
-    kernel_unitary(a, m, mat, lt, tm, cm, cv, ex);
+    if (plan)
+      apply_unitary_plan(a, m, *plan, tm, cm, cv, ex);
+    else
+      kernel_unitary(a, m, mat, lt, tm, cm, cv, ex);
   }
   void apply_add(std::int64_t constant, std::span<const qubit_index> bits, std::span<const control> cs) {
     std::uint64_t cm, cv, rm;
@@ -288,6 +293,14 @@ void run_in_chunks(S* a, unsigned n, std::span<const op::any> ops, std::uint64_t
     for (std::uint64_t r = 0; r < runs; ++r) run_offset[r] = deposit(r, upper);
   exec_policy one = ex;
   one.threads = 1;
+  // Every chunk applies a matrix with the same local targets: plan each once (see unitary_plan).
+  std::vector<std::unique_ptr<unitary_plan<S>>> plans(ops.size());
+  for (std::size_t i = 0; i < ops.size(); ++i)
+    if (const auto* u = std::get_if<op::unitary_op>(&ops[i])) {
+      std::array<qubit_index, 64> lt;
+      for (std::size_t j = 0; j < u->targets.size(); ++j) lt[j] = static_cast<qubit_index>(local_of[u->targets[j]]);
+      plans[i] = std::make_unique<unitary_plan<S>>(u->matrix, std::span<const qubit_index>(lt.data(), u->targets.size()), one);
+    }
   const std::uint64_t chunks = std::uint64_t{1} << (n - m);
   auto do_chunk = [&](std::uint64_t c) {
     const std::uint64_t base = deposit(c, outside);
@@ -302,7 +315,10 @@ void run_in_chunks(S* a, unsigned n, std::span<const op::any> ops, std::uint64_t
       }
     }
     chunk_sink<S> sink{chunk, m, &local_of, base, one};
-    for (const op::any& o : ops) emit_op(o, sink);
+    for (std::size_t i = 0; i < ops.size(); ++i) {
+      sink.plan = plans[i].get();
+      emit_op(ops[i], sink);
+    }
     if (!in_place)
       for (std::uint64_t r = 0; r < runs; ++r) {
         if (r + copy_ahead < runs) prefetch_lines(a + base + run_offset[r + copy_ahead], run_len, true);

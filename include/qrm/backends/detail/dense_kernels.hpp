@@ -422,89 +422,135 @@ inline std::vector<std::uint64_t> target_offsets(std::span<const qubit_index> ta
   return off;
 }
 
+// What kernel_unitary derives from a matrix and its targets before it touches the state (row
+// lists, the fixed-width form and its tables, in double and in float). A chunked run
+// (dense_blocked.hpp) applies an op to every chunk with the same local targets, so it builds the
+// plan once per run instead of once per chunk.
 template <class S>
-void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qubit_index> targets,
-                    std::uint64_t tmask, std::uint64_t cmask, std::uint64_t cvalue, const exec_policy& ex) {
-  const auto offsets = target_offsets(targets);
+struct unitary_plan {
+  const dense_matrix* m = nullptr;
+  std::vector<qubit_index> targets;
+  std::vector<std::uint64_t> offsets;
+  bool vector_kernel = false;  // complex, at most vector_kernel_max_dim rows: the tables below are set
+  simd_level level = simd_level::generic;
+  csr_matrix rows;  // of `m`, or of its reordering (form.reordered)
+  fixed_width_form form;
+  std::array<std::uint64_t, 8> store_at{}, load_from{};
+  std::vector<double> dense_re, dense_im;  // row-major, when applied as dense
+  std::vector<float> dense_re_f, dense_im_f, rows_re_f, rows_im_f;
+  std::vector<std::uint8_t> ell_col;
+  std::vector<double> ell_re, ell_im;
+  std::vector<float> ell_re_f, ell_im_f;
+
+  unitary_plan(const dense_matrix& mat, std::span<const qubit_index> ts, const exec_policy& ex)
+      : m(&mat), targets(ts.begin(), ts.end()), offsets(target_offsets(ts)) {
+    if constexpr (scalar_traits<S>::is_complex) {
+      if (mat.dim > vector_kernel_max_dim) return;
+      vector_kernel = true;
+      level = resolve_simd(ex.simd);
+      rows = csr_matrix::of(mat);
+      // The matrix in the order applied: reordered when that puts it in a smaller offset set
+      // (see block_order); rows are then stored to store_at, columns loaded from load_from.
+      form = choose_fixed_width_form(rows);
+      const dense_matrix* applied = &mat;
+      dense_matrix reordered;
+      if (form.reordered) {
+        reordered = dense_matrix(8);
+        for (std::size_t i = 0; i < 8; ++i) {
+          for (std::size_t j = 0; j < 8; ++j) reordered(i, j) = mat(form.row[i], form.col[j]);
+          store_at[i] = offsets[form.row[i]];
+          load_from[i] = offsets[form.col[i]];
+        }
+        rows = csr_matrix::of(reordered);
+        applied = &reordered;
+      }
+      // Dense enough (a quarter of the entries non-zero): every entry, unrolled, beats the
+      // row lists' indirection.
+      if (rows.col.size() * 4 >= mat.dim * mat.dim && mat.dim <= 16) {
+        for (const complex& z : applied->data) {
+          dense_re.push_back(z.real());
+          dense_im.push_back(z.imag());
+        }
+      }
+      if (const unsigned k = form.width) {
+        // Row r's entries: at columns r ^ d (d from the offset set, fixed at compile time), or
+        // at listed columns padded to k.
+        const unsigned set = form.set;
+        const auto w = set ? static_cast<unsigned>(std::popcount(set)) : k;
+        const std::size_t size = mat.dim * w;
+        ell_col.assign(size, 0);
+        ell_re.assign(size, 0), ell_im.assign(size, 0);
+        ell_re_f.assign(size, 0), ell_im_f.assign(size, 0);
+        for (std::size_t r = 0; r < mat.dim; ++r)
+          for (unsigned e = 0; e < w; ++e) {
+            const std::uint32_t at_row = rows.row_start[r] + e;
+            const bool listed = at_row < rows.row_start[r + 1];
+            const std::size_t c = set ? r ^ nth_bit(set, e) : listed ? rows.col[at_row] : 0;
+            const complex z = set || listed ? (*applied)(r, c) : complex{};
+            const std::size_t at = r * w + e;
+            ell_col[at] = static_cast<std::uint8_t>(c);
+            ell_re[at] = z.real(), ell_im[at] = z.imag();
+            ell_re_f[at] = static_cast<float>(z.real()), ell_im_f[at] = static_cast<float>(z.imag());
+          }
+      }
+      if (std::is_same_v<S, std::complex<float>> && ex.math == float_math::single_precision) {
+        dense_re_f.assign(dense_re.begin(), dense_re.end());
+        dense_im_f.assign(dense_im.begin(), dense_im.end());
+        rows_re_f.assign(rows.re.begin(), rows.re.end());
+        rows_im_f.assign(rows.im.begin(), rows.im.end());
+      }
+    }
+  }
+  unitary_plan(const unitary_plan&) = delete;  // jobs point into it
+  unitary_plan& operator=(const unitary_plan&) = delete;
+
+  csr_job<S> job(S* a, unsigned n) const {
+    csr_job<S> j{&rows, form.reordered ? store_at.data() : offsets.data(), a};
+    if (form.reordered) j.load_offsets = load_from.data();
+    j.level = level;
+    j.streams = (std::uint64_t{sizeof(S)} << n) > streaming_state_bytes;
+    if (!dense_re.empty()) j.dense_re = dense_re.data(), j.dense_im = dense_im.data();
+    if (form.width) {
+      j.ell_k = form.width;
+      j.ell_xor = form.set;
+      j.ell_col = ell_col.data();
+      j.ell_re = ell_re.data(), j.ell_im = ell_im.data();
+      j.ell_re_f = ell_re_f.data(), j.ell_im_f = ell_im_f.data();
+    }
+    j.dense_re_f = dense_re_f.data(), j.dense_im_f = dense_im_f.data();
+    j.rows_re_f = rows_re_f.data(), j.rows_im_f = rows_im_f.data();
+    return j;
+  }
+};
+
+// Applies a planned matrix at the bases of an n-qubit state where the controls hold (tmask: the
+// plan's targets as a mask).
+template <class S>
+void apply_unitary_plan(S* a, unsigned n, const unitary_plan<S>& plan, std::uint64_t tmask, std::uint64_t cmask,
+                        std::uint64_t cvalue, const exec_policy& ex) {
+  const dense_matrix& m = *plan.m;
   const subspace s(n, cmask | tmask, cvalue);
   if constexpr (scalar_traits<S>::is_complex) {
-    if (m.dim <= vector_kernel_max_dim) {
-      const simd_level level = resolve_simd(ex.simd);
+    if (plan.vector_kernel) {
 #ifdef QRM_HAS_CPU_DISPATCH
       // At AVX-512, an 8x8 matrix with a target among the amplitudes a register holds (qubits
       // 0-2 in float arithmetic, 0-1 in double) and no control there: those targets are lanes
-      // (dense_lanes.hpp, which builds its own coefficients, so before the tables below)
-      // instead of bases gathered four at a time.
-      if (level == simd_level::avx512 && m.dim == 8 && n >= 3) {
+      // (dense_lanes.hpp, which builds its own coefficients) instead of bases gathered four at a time.
+      if (plan.level == simd_level::avx512 && m.dim == 8 && n >= 3) {
         const bool float_arithmetic =
             std::is_same_v<S, std::complex<float>> && ex.math == float_math::single_precision;
         const std::uint64_t lanes = float_arithmetic ? 7 : 3;
         if ((tmask & lanes) != 0 && (cmask & lanes) == 0) {
           const subspace bases(n, cmask | (tmask & ~lanes), cvalue);
           const auto chunks = [&](auto&& g) { for_each_chunk(bases, ex, m.dim, g); };
+          const std::span<const qubit_index> targets(plan.targets);
           if constexpr (std::is_same_v<S, std::complex<float>>)
             if (float_arithmetic) return lane_mix<S, float, 8>(a, m, targets, bases, chunks);
           return lane_mix<S, double, 4>(a, m, targets, bases, chunks);
         }
       }
 #endif
-      csr_matrix rows = csr_matrix::of(m);
-      // `mat` is the matrix in the order applied: reordered when that puts it in a smaller
-      // offset set (see block_order); rows are then stored to store_at, columns loaded from load_from.
-      const fixed_width_form form = choose_fixed_width_form(rows);
-      const dense_matrix* mat = &m;
-      dense_matrix reordered;
-      std::array<std::uint64_t, 8> store_at{}, load_from{};
-      if (form.reordered) {
-        reordered = dense_matrix(8);
-        for (std::size_t i = 0; i < 8; ++i) {
-          for (std::size_t j = 0; j < 8; ++j) reordered(i, j) = m(form.row[i], form.col[j]);
-          store_at[i] = offsets[form.row[i]];
-          load_from[i] = offsets[form.col[i]];
-        }
-        rows = csr_matrix::of(reordered);
-        mat = &reordered;
-      }
-      csr_job<S> job{&rows, mat == &m ? offsets.data() : store_at.data(), a};
-      if (mat != &m) job.load_offsets = load_from.data();
-      job.level = level;
-      job.streams = (std::uint64_t{sizeof(S)} << n) > streaming_state_bytes;
-      // Dense enough (a quarter of the entries non-zero): every entry, unrolled, beats the
-      // row lists' indirection.
-      std::vector<double> re, im;
-      if (rows.col.size() * 4 >= m.dim * m.dim && m.dim <= 16) {
-        for (const complex& z : mat->data) {
-          re.push_back(z.real());
-          im.push_back(z.imag());
-        }
-        job.dense_re = re.data();
-        job.dense_im = im.data();
-      }
-      std::array<std::uint8_t, ell_max_entries> ell_col{};
-      std::array<double, ell_max_entries> ell_re{}, ell_im{};
-      std::array<float, ell_max_entries> ell_re_f{}, ell_im_f{};
-      if (const unsigned k = form.width) {
-        // Row r's entries: at columns r ^ d (d from the offset set, fixed at compile time), or
-        // at listed columns padded to k.
-        const unsigned set = form.set;
-        const auto w = set ? static_cast<unsigned>(std::popcount(set)) : k;
-        for (std::size_t r = 0; r < m.dim; ++r)
-          for (unsigned e = 0; e < w; ++e) {
-            const std::uint32_t at_row = rows.row_start[r] + e;
-            const bool listed = at_row < rows.row_start[r + 1];
-            const std::size_t c = set ? r ^ nth_bit(set, e) : listed ? rows.col[at_row] : 0;
-            const complex z = set || listed ? (*mat)(r, c) : complex{};
-            const std::size_t at = r * w + e;
-            ell_col[at] = static_cast<std::uint8_t>(c);
-            ell_re[at] = z.real(), ell_im[at] = z.imag();
-            ell_re_f[at] = static_cast<float>(z.real()), ell_im_f[at] = static_cast<float>(z.imag());
-          }
-        job.ell_k = k;
-        job.ell_xor = set;
-        job.ell_col = ell_col.data();
-        job.ell_re = ell_re.data(), job.ell_im = ell_im.data();
-        job.ell_re_f = ell_re_f.data(), job.ell_im_f = ell_im_f.data();
-      }
+      const csr_job<S> job = plan.job(a, n);
 #ifdef QRM_HAS_CPU_DISPATCH
       // Float arithmetic (asked for, and a CPU with AVX2): eight neighbouring bases per 512-bit
       // register where the lowest 3 qubits are free, else four per 256-bit register (neighbours,
@@ -513,12 +559,6 @@ void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qub
         const bool wide = job.level == simd_level::avx512 && s.run_log2() >= 3;
         const base_groups gr = group_bases(s, 4);
         if (ex.math == float_math::single_precision && job.level != simd_level::generic && (wide || gr.ok)) {
-          const std::vector<float> dense_re(re.begin(), re.end()), dense_im(im.begin(), im.end());
-          const std::vector<float> rows_re(rows.re.begin(), rows.re.end()), rows_im(rows.im.begin(), rows.im.end());
-          job.dense_re_f = dense_re.data();
-          job.dense_im_f = dense_im.data();
-          job.rows_re_f = rows_re.data();
-          job.rows_im_f = rows_im.data();
           if (wide) {
             static constexpr std::uint64_t neighbours[4] = {0, 1, 2, 3};
             for_each_chunk(s, ex, m.dim, [&](std::uint64_t k0, std::uint64_t k1) {
@@ -562,8 +602,16 @@ void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qub
     }
   }
   const sparse_rows<S> rows(m);
-  for_each_run(s, ex, m.dim, unitary_applier<S>{rows, offsets, a});
+  for_each_run(s, ex, m.dim, unitary_applier<S>{rows, plan.offsets, a});
 }
+
+template <class S>
+void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qubit_index> targets,
+                    std::uint64_t tmask, std::uint64_t cmask, std::uint64_t cvalue, const exec_policy& ex) {
+  const unitary_plan<S> plan(m, targets, ex);
+  apply_unitary_plan(a, n, plan, tmask, cmask, cvalue, ex);
+}
+
 
 // ---- add a constant modulo 2^k (a permutation, in place) ------------------------------------
 

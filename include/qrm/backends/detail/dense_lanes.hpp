@@ -78,6 +78,12 @@ template <class S, class A, unsigned N, unsigned Dim, unsigned LowMask, bool Rea
   using stored = typename lanes<R, N>::type;
   R* p = static_cast<R*>(job.amplitudes);
   constexpr unsigned Patterns = 1u << std::popcount(LowMask), Columns = Dim / Patterns, dim = Dim;
+  // The job's fields in locals: stores through p (memcpy) may alias the job, so the compiler
+  // reloaded them on every iteration (see csr_range_body).
+  std::uint64_t offset[Columns];
+  for (unsigned c = 0; c < Columns; ++c) offset[c] = job.offset[c];
+  const A* const coef_re = job.coef_re;
+  const A* const coef_im = job.coef_im;
   vec x[dim];
   vec sign;
   for (unsigned l = 0; l < 2 * N; ++l) sign[l] = (l % 2 == 0) ? -1.0 : 1.0;
@@ -85,9 +91,9 @@ template <class S, class A, unsigned N, unsigned Dim, unsigned LowMask, bool Rea
     const std::uint64_t first = runs.first(), len = runs.length();
     for (std::uint64_t b = first; b < first + len; b += N) {
       for (unsigned c = 0; c < Columns; ++c) {
-        if ((b & (64 / sizeof(S) - 1)) == 0) prefetch_for_write(p, 2 * (b + job.offset[c]) + 8192 / sizeof(R));
+        if ((b & (64 / sizeof(S) - 1)) == 0) prefetch_for_write(p, 2 * (b + offset[c]) + 8192 / sizeof(R));
         stored v;
-        std::memcpy(&v, p + 2 * (b + job.offset[c]), sizeof v);
+        std::memcpy(&v, p + 2 * (b + offset[c]), sizeof v);
         vec w;
         if constexpr (std::is_same_v<R, A>)
           w = v;
@@ -97,8 +103,8 @@ template <class S, class A, unsigned N, unsigned Dim, unsigned LowMask, bool Rea
       }
       for (unsigned r = 0; r < Columns; ++r) {
         vec acc = {}, acc_im = {};
-        const A* cr = job.coef_re + std::size_t{r} * dim * 2 * N;
-        const A* ci = job.coef_im + std::size_t{r} * dim * 2 * N;
+        const A* cr = coef_re + std::size_t{r} * dim * 2 * N;
+        const A* ci = coef_im + std::size_t{r} * dim * 2 * N;
         for (unsigned t = 0; t < dim; ++t) {
           vec cre, cim;
           std::memcpy(&cre, cr + t * 2 * N, sizeof cre);
@@ -118,7 +124,7 @@ template <class S, class A, unsigned N, unsigned Dim, unsigned LowMask, bool Rea
           out = acc;
         else
           out = __builtin_convertvector(acc, stored);
-        std::memcpy(p + 2 * (b + job.offset[r]), &out, sizeof out);
+        std::memcpy(p + 2 * (b + offset[r]), &out, sizeof out);
       }
     }
   }
