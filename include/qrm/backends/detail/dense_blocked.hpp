@@ -21,7 +21,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
-#include <memory>
 #include <span>
 #include <vector>
 
@@ -294,13 +293,16 @@ void run_in_chunks(S* a, unsigned n, std::span<const op::any> ops, std::uint64_t
   exec_policy one = ex;
   one.threads = 1;
   // Every chunk applies a matrix with the same local targets: plan each once (see unitary_plan).
-  std::vector<std::unique_ptr<unitary_plan<S>>> plans(ops.size());
-  for (std::size_t i = 0; i < ops.size(); ++i)
-    if (const auto* u = std::get_if<op::unitary_op>(&ops[i])) {
+  std::vector<unitary_plan<S>> plans;
+  std::vector<const unitary_plan<S>*> plan_of(ops.size(), nullptr);
+  for (const op::any& o : ops)
+    if (const auto* u = std::get_if<op::unitary_op>(&o)) {
       std::array<qubit_index, 64> lt;
       for (std::size_t j = 0; j < u->targets.size(); ++j) lt[j] = static_cast<qubit_index>(local_of[u->targets[j]]);
-      plans[i] = std::make_unique<unitary_plan<S>>(u->matrix, std::span<const qubit_index>(lt.data(), u->targets.size()), one);
+      plans.emplace_back(u->matrix, std::span<const qubit_index>(lt.data(), u->targets.size()), one);
     }
+  for (std::size_t i = 0, next = 0; i < ops.size(); ++i)
+    if (std::holds_alternative<op::unitary_op>(ops[i])) plan_of[i] = &plans[next++];
   const std::uint64_t chunks = std::uint64_t{1} << (n - m);
   auto do_chunk = [&](std::uint64_t c) {
     const std::uint64_t base = deposit(c, outside);
@@ -316,7 +318,7 @@ void run_in_chunks(S* a, unsigned n, std::span<const op::any> ops, std::uint64_t
     }
     chunk_sink<S> sink{chunk, m, &local_of, base, one};
     for (std::size_t i = 0; i < ops.size(); ++i) {
-      sink.plan = plans[i].get();
+      sink.plan = plan_of[i];
       emit_op(ops[i], sink);
     }
     if (!in_place)

@@ -501,9 +501,7 @@ struct unitary_plan {
       }
     }
   }
-  unitary_plan(const unitary_plan&) = delete;  // jobs point into it
-  unitary_plan& operator=(const unitary_plan&) = delete;
-
+  // A job points into the plan: valid while the plan is neither moved nor destroyed.
   csr_job<S> job(S* a, unsigned n) const {
     csr_job<S> j{&rows, form.reordered ? store_at.data() : offsets.data(), a};
     if (form.reordered) j.load_offsets = load_from.data();
