@@ -96,7 +96,6 @@ struct csr_matrix {
 // or 8 above 8 rows: rows padded with zeros), or 0 when a row has more. Fused blocks of 4 to 6
 // qubits are mostly this sparse (the decomposed walk fused at 5: 102 of its 126 blocks of 32
 // rows have at most 4 entries per row, 123 at most 8; at 6: 73 of 75 blocks of 64 rows at most 8).
-inline constexpr unsigned ell_max_entries = 64 * 8;
 template <int = 0>
 inline unsigned ell_width(const csr_matrix& m) {
   if (m.dim != 8 && m.dim != 16 && m.dim != 32 && m.dim != 64) return 0;

@@ -292,14 +292,18 @@ void run_in_chunks(S* a, unsigned n, std::span<const op::any> ops, std::uint64_t
     for (std::uint64_t r = 0; r < runs; ++r) run_offset[r] = deposit(r, upper);
   exec_policy one = ex;
   one.threads = 1;
-  // Every chunk applies a matrix with the same local targets: plan each once (see unitary_plan).
+  // Every chunk applies a matrix with the same local targets and controls: plan each once (see
+  // unitary_plan).
   std::vector<unitary_plan<S>> plans;
   std::vector<const unitary_plan<S>*> plan_of(ops.size(), nullptr);
   for (const op::any& o : ops)
     if (const auto* u = std::get_if<op::unitary_op>(&o)) {
       std::array<qubit_index, 64> lt;
       for (std::size_t j = 0; j < u->targets.size(); ++j) lt[j] = static_cast<qubit_index>(local_of[u->targets[j]]);
-      plans.emplace_back(u->matrix, std::span<const qubit_index>(lt.data(), u->targets.size()), one);
+      std::uint64_t cmask = 0;  // of the controls inside the chunk (the others select chunks)
+      for (const control& c : u->controls)
+        if (local_of[c.qubit] >= 0) cmask |= std::uint64_t{1} << local_of[c.qubit];
+      plans.emplace_back(u->matrix, std::span<const qubit_index>(lt.data(), u->targets.size()), cmask, one);
     }
   for (std::size_t i = 0, next = 0; i < ops.size(); ++i)
     if (std::holds_alternative<op::unitary_op>(ops[i])) plan_of[i] = &plans[next++];

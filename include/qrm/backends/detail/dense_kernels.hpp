@@ -422,16 +422,24 @@ inline std::vector<std::uint64_t> target_offsets(std::span<const qubit_index> ta
   return off;
 }
 
-// What kernel_unitary derives from a matrix and its targets before it touches the state (row
-// lists, the fixed-width form and its tables, in double and in float). A chunked run
-// (dense_blocked.hpp) applies an op to every chunk with the same local targets, so it builds the
-// plan once per run instead of once per chunk.
+// Products and sums in float: complex<float> amplitudes and the caller asked for it.
+template <class S>
+constexpr bool float_arithmetic(const exec_policy& ex) {
+  return std::is_same_v<S, std::complex<float>> && ex.math == float_math::single_precision;
+}
+
+// What kernel_unitary derives from a matrix, its targets and its controls' mask before it touches
+// the state (row lists, the fixed-width form and its tables, in double and in float; none of
+// these when the op takes the lane path, which builds its own coefficients). A chunked run
+// (dense_blocked.hpp) applies an op to every chunk with the same local targets and controls, so
+// it builds the plan once per run instead of once per chunk.
 template <class S>
 struct unitary_plan {
   const dense_matrix* m = nullptr;
   std::vector<qubit_index> targets;
   std::vector<std::uint64_t> offsets;
   bool vector_kernel = false;  // complex, at most vector_kernel_max_dim rows: the tables below are set
+  bool lane_path = false;      // applied by lane_mix (no tables)
   simd_level level = simd_level::generic;
   csr_matrix rows;  // of `m`, or of its reordering (form.reordered)
   fixed_width_form form;
@@ -442,12 +450,25 @@ struct unitary_plan {
   std::vector<double> ell_re, ell_im;
   std::vector<float> ell_re_f, ell_im_f;
 
-  unitary_plan(const dense_matrix& mat, std::span<const qubit_index> ts, const exec_policy& ex)
+  unitary_plan(const dense_matrix& mat, std::span<const qubit_index> ts, [[maybe_unused]] std::uint64_t cmask,
+               const exec_policy& ex)
       : m(&mat), targets(ts.begin(), ts.end()), offsets(target_offsets(ts)) {
     if constexpr (scalar_traits<S>::is_complex) {
       if (mat.dim > vector_kernel_max_dim) return;
       vector_kernel = true;
       level = resolve_simd(ex.simd);
+#ifdef QRM_HAS_CPU_DISPATCH
+      // At AVX-512, an 8x8 matrix with a target among the amplitudes a register holds (qubits
+      // 0-2 in float arithmetic, 0-1 in double) and no control there: those targets are lanes
+      // (dense_lanes.hpp) instead of bases gathered four at a time.
+      if (level == simd_level::avx512 && mat.dim == 8) {
+        std::uint64_t tmask = 0;
+        for (const qubit_index t : ts) tmask |= std::uint64_t{1} << t;
+        const std::uint64_t lanes = float_arithmetic<S>(ex) ? 7 : 3;
+        lane_path = (tmask & lanes) != 0 && (cmask & lanes) == 0;
+        if (lane_path) return;
+      }
+#endif
       rows = csr_matrix::of(mat);
       // The matrix in the order applied: reordered when that puts it in a smaller offset set
       // (see block_order); rows are then stored to store_at, columns loaded from load_from.
@@ -493,7 +514,7 @@ struct unitary_plan {
             ell_re_f[at] = static_cast<float>(z.real()), ell_im_f[at] = static_cast<float>(z.imag());
           }
       }
-      if (std::is_same_v<S, std::complex<float>> && ex.math == float_math::single_precision) {
+      if (float_arithmetic<S>(ex)) {
         dense_re_f.assign(dense_re.begin(), dense_re.end());
         dense_im_f.assign(dense_im.begin(), dense_im.end());
         rows_re_f.assign(rows.re.begin(), rows.re.end());
@@ -522,7 +543,7 @@ struct unitary_plan {
 };
 
 // Applies a planned matrix at the bases of an n-qubit state where the controls hold (tmask: the
-// plan's targets as a mask).
+// plan's targets as a mask; cmask: the control mask the plan was built with).
 template <class S>
 void apply_unitary_plan(S* a, unsigned n, const unitary_plan<S>& plan, std::uint64_t tmask, std::uint64_t cmask,
                         std::uint64_t cvalue, const exec_policy& ex) {
@@ -531,21 +552,14 @@ void apply_unitary_plan(S* a, unsigned n, const unitary_plan<S>& plan, std::uint
   if constexpr (scalar_traits<S>::is_complex) {
     if (plan.vector_kernel) {
 #ifdef QRM_HAS_CPU_DISPATCH
-      // At AVX-512, an 8x8 matrix with a target among the amplitudes a register holds (qubits
-      // 0-2 in float arithmetic, 0-1 in double) and no control there: those targets are lanes
-      // (dense_lanes.hpp, which builds its own coefficients) instead of bases gathered four at a time.
-      if (plan.level == simd_level::avx512 && m.dim == 8 && n >= 3) {
-        const bool float_arithmetic =
-            std::is_same_v<S, std::complex<float>> && ex.math == float_math::single_precision;
-        const std::uint64_t lanes = float_arithmetic ? 7 : 3;
-        if ((tmask & lanes) != 0 && (cmask & lanes) == 0) {
-          const subspace bases(n, cmask | (tmask & ~lanes), cvalue);
-          const auto chunks = [&](auto&& g) { for_each_chunk(bases, ex, m.dim, g); };
-          const std::span<const qubit_index> targets(plan.targets);
-          if constexpr (std::is_same_v<S, std::complex<float>>)
-            if (float_arithmetic) return lane_mix<S, float, 8>(a, m, targets, bases, chunks);
-          return lane_mix<S, double, 4>(a, m, targets, bases, chunks);
-        }
+      if (plan.lane_path) {
+        const std::uint64_t lanes = float_arithmetic<S>(ex) ? 7 : 3;
+        const subspace bases(n, cmask | (tmask & ~lanes), cvalue);
+        const auto chunks = [&](auto&& g) { for_each_chunk(bases, ex, m.dim, g); };
+        const std::span<const qubit_index> targets(plan.targets);
+        if constexpr (std::is_same_v<S, std::complex<float>>)
+          if (float_arithmetic<S>(ex)) return lane_mix<S, float, 8>(a, m, targets, bases, chunks);
+        return lane_mix<S, double, 4>(a, m, targets, bases, chunks);
       }
 #endif
       const csr_job<S> job = plan.job(a, n);
@@ -606,7 +620,7 @@ void apply_unitary_plan(S* a, unsigned n, const unitary_plan<S>& plan, std::uint
 template <class S>
 void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qubit_index> targets,
                     std::uint64_t tmask, std::uint64_t cmask, std::uint64_t cvalue, const exec_policy& ex) {
-  const unitary_plan<S> plan(m, targets, ex);
+  const unitary_plan<S> plan(m, targets, cmask, ex);
   apply_unitary_plan(a, n, plan, tmask, cmask, cvalue, ex);
 }
 
