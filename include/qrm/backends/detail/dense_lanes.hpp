@@ -95,10 +95,7 @@ template <class S, class A, unsigned N, unsigned Dim, unsigned LowMask, bool Rea
         stored v;
         std::memcpy(&v, p + 2 * (b + offset[c]), sizeof v);
         vec w;
-        if constexpr (std::is_same_v<R, A>)
-          w = v;
-        else
-          w = __builtin_convertvector(v, vec);
+        widen(v, w);
         permute_all<S, A, N, LowMask>(w, x + c * Patterns, std::make_index_sequence<Patterns>{});
       }
       for (unsigned r = 0; r < Columns; ++r) {
