@@ -6,16 +6,16 @@
 // in test_estimation); the RMS error in radiance units, and the projected hardware time of the
 // mean run (qrm/resources: Clifford+T lowering of A and Q, surface-code plan per preset).
 // Classical: the random walk with the circuit's transition probabilities (qrm::monte_carlo) at
-// 4^2..4^9 paths, its RMS error against the exact path sum, and its measured time on one core.
+// 4^2..4^9 paths, its RMS error against the exact path sum, and its CPU time on one core.
 // Crossover: both curves are fitted as power laws T = c eps^b (least squares in log-log); the
 // quantum method is cheaper below eps* where the fits meet, if its slope is shallower. eps* is
 // flagged when it lies outside the errors actually measured (an extrapolation).
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -51,7 +51,7 @@ struct measured {
   std::uint64_t max_power = 0;         // quantum: largest over the repetitions
   bool rescaled = false;               // quantum: runs A with FAE's rescaling ancilla
   double paths = 0;                    // classical
-  double cpu_seconds = 0;              // classical: mean time of one estimate on one core
+  double cpu_seconds = 0;              // classical: mean CPU time of one estimate (one core)
 };
 
 struct cell_data {
@@ -97,7 +97,7 @@ flag_table crossover_flags() {
       {"error", "E", "0.001", "the fault-tolerant error budget of each circuit run, in (0, 1)", c},
       {"repetitions", "R", "64", "seeded runs per budget setting (2..100000)", r},
       {"seed", "S", "1", "random seed (integer >= 0)", r},
-      {"threads", "T", "0", "worker threads; 0 = all cores", r},
+      {"threads", "T", "0", "worker threads of the quantum estimates (Monte Carlo is timed on one); 0 = all cores", r},
       {"out", "DIR", "crossover", "output directory (created): crossover.csv, crossover.md, crossover.svg", r},
   };
   for (const flag& r : rest) f.push_back(r);
@@ -166,18 +166,22 @@ crossover_result run_crossover(const crossover_request& req) {
     quantum.push_back(p);
   }
 
-  // Classical Monte Carlo: errors and measured time per estimate on one core.
+  // Classical Monte Carlo: errors and the CPU time of each estimate, one at a time on one thread.
+  // CPU time, not wall time: an estimate of a few paths takes microseconds, and wall time counts
+  // whatever else the machine runs meanwhile (another process preempting the thread bent the
+  // fitted slope to -1.69 under load, where -2 is the law); the process's CPU time is this
+  // thread's while it is the only one working.
   std::vector<measured> classical;
   for (const std::uint64_t paths : path_counts) {
     std::vector<double> sq(reps), secs(reps);
-    qrm::detail::parallel_jobs(reps, threads, [&](std::size_t j) {
+    for (std::size_t j = 0; j < reps; ++j) {
       qrm::rng g = qrm::rng::stream(seed + 1, j);
-      const auto t0 = std::chrono::steady_clock::now();
+      const std::clock_t t0 = std::clock();
       const auto est = qrm::monte_carlo(m, cell.start, steps, 0, paths, g);
-      secs[j] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      secs[j] = static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
       sq[j] = (est.mean - cell.classical_mean) * (est.mean - cell.classical_mean);
       bar.advance();
-    });
+    }
     measured p{"mc", "paths=" + std::to_string(paths)};
     p.paths = static_cast<double>(paths);
     for (std::size_t j = 0; j < reps; ++j) {
@@ -227,7 +231,7 @@ crossover_result run_crossover(const crossover_request& req) {
         "error budget " + json_number(eps) + " per circuit run split in thirds, P_L = 0.03 (p/0.01)^((d+1)/2), one T "
         "state per logical cycle, 15-to-1 factories (include/qrm/resources/surface_code.hpp); shots run one after "
         "another on one machine. Monte Carlo: the classical random walk with the circuit's transition "
-        "probabilities on one core of the machine that ran this command. Errors are RMS over the repetitions, in "
+        "probabilities on one core of the machine that ran this command (its CPU time, the estimates run one at a time). Errors are RMS over the repetitions, in "
         "radiance units; each curve is fitted as a power law T = c eps^b.\n\n";
   md += "Monte Carlo fit: slope " + short_number(mc_fit.slope) + " (1/eps^2 is -2), r^2 = " +
         short_number(mc_fit.r_squared) + ", measured down to eps = " + short_number(eps_min_mc) + ".\n\n";
