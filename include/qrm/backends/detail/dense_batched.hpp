@@ -330,7 +330,12 @@ template <class S>
   __builtin_prefetch(reinterpret_cast<const void*>(reinterpret_cast<std::uintptr_t>(a) + i * sizeof(S)), 1);
 }
 
+// x86-64 under g++ or clang: kernels compiled per ISA (target attributes), chosen at run time.
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define QRM_HAS_CPU_DISPATCH 1
+#endif
+
+#ifdef QRM_HAS_CPU_DISPATCH
 // Eight floats to eight doubles in one instruction, where g++ 12 lowers __builtin_convertvector
 // at this width to two 4-wide conversions, an extract and an insert. A target function, not an
 // always_inline one (that could not be inlined into the ISA-neutral bodies below); the AVX-512
@@ -346,7 +351,7 @@ template <class Vec, class Stored>
 [[gnu::always_inline]] inline void widen(const Stored& v, Vec& out) {
   if constexpr (std::is_same_v<Vec, Stored>)
     out = v;
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#ifdef QRM_HAS_CPU_DISPATCH
   else if constexpr (sizeof(Vec) == 64 && sizeof(Stored) == 32)
     widen_eight_floats(v, out);
 #endif
@@ -495,8 +500,7 @@ void csr_range_generic(const csr_job<S>& job, const subspace& s, const std::uint
   csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet>(job, s, g, k0, k1);
 }
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define QRM_HAS_CPU_DISPATCH 1
+#ifdef QRM_HAS_CPU_DISPATCH
 template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K, unsigned XorSet>
 __attribute__((target("avx2,fma"))) void csr_range_avx2(const csr_job<S>& job, const subspace& s,
                                                         const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
