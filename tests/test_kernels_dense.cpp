@@ -70,33 +70,40 @@ TEST_CASE_TEMPLATE("X swaps blocks of every width exactly at every vector level"
 }
 
 // A run is chunked when its ops would make dense_options::chunk_min_passes passes over memory
-// on their own (detail::memory_passes): an uncontrolled 1- or 2-qubit op one pass, halved per
-// control above the lowest `low` qubits, an 8x8 matrix none. Runs on qubits 0..3 of a 20-qubit
-// state, chunks of 2^10 amplitudes (low = 4): which of them the default rule chunks.
+// on their own (detail::memory_passes): an uncontrolled op one pass, halved per control above the
+// lowest `low` qubits, a matrix wider than memory_bound_dim none. Runs on qubits 0..3 of a
+// 20-qubit state, chunks of 2^10 amplitudes (low = 4): which of them the default rule chunks.
 TEST_CASE("runs are chunked when their ops would make at least chunk_min_passes passes over memory") {
   using qrm::op::any;
   const qrm::qubit_index n = 20;
   auto h = [](qrm::qubit_index t, std::vector<qrm::control> cs = {}) { return any{qrm::op::gate1_op{qrm::gate::h(), t, cs}}; };
-  auto chunked = [&](const std::vector<any>& ops) {
-    const auto runs = qrm::detail::plan_runs(ops, n, 10, 4);
+  auto chunked = [&](const std::vector<any>& ops, std::size_t widest_memory_bound = 4) {
+    const auto runs = qrm::detail::plan_runs(ops, n, 10, 4, qrm::detail::min_chunked_passes, widest_memory_bound);
     return runs.size() == 1 && runs[0].local != 0;
   };
-  CHECK(qrm::detail::min_chunked_passes == 6);
-  const std::vector<any> six_h = {h(0), h(1), h(2), h(3), h(0), h(1)};
-  CHECK(chunked(six_h));
-  CHECK_FALSE(chunked({six_h.begin(), six_h.end() - 1}));
+  CHECK(qrm::detail::min_chunked_passes == 2);
+  CHECK(chunked({h(0), h(1)}));
+  CHECK_FALSE(chunked({h(0)}));
   // Controls on qubits 12 and 13 (above the chunk's low qubits): a quarter pass each.
   const std::vector<qrm::control> high = {{12, true}, {13, false}};
-  CHECK_FALSE(chunked({h(0, high), h(1, high), h(2, high), h(3, high), h(0), h(1), h(2), h(3)}));  // 5 passes
-  CHECK(chunked({h(0, high), h(1, high), h(2, high), h(3, high), h(0), h(1), h(2), h(3), h(0)}));   // 6
+  CHECK_FALSE(chunked({h(0, high), h(1, high), h(2, high), h(3, high), h(0, high), h(1, high), h(2, high)}));  // 1.75
+  CHECK(chunked({h(0, high), h(1, high), h(2, high), h(3, high), h(0)}));                                        // 2
   // A control on qubit 2, inside the low qubits, leaves the op its whole pass.
-  CHECK(chunked({h(0, {{2, true}}), h(1, {{2, true}}), h(0, {{2, true}}), h(1), h(0), h(1)}));
-  // 8x8 matrices wait on arithmetic: any number of them alone stays op by op.
+  CHECK(chunked({h(0, {{2, true}}), h(1, {{2, true}})}));
+  // 8x8 matrices wait on arithmetic unless memory_bound_dim says they wait on memory.
   qrm::dense_matrix m(8);
   for (std::size_t r = 0; r < 8; ++r) m(r, r) = 1;
   const any block{qrm::op::unitary_op{m, {0, 1, 2}, {}}};
   CHECK_FALSE(chunked(std::vector<any>(10, block)));
+  CHECK(chunked(std::vector<any>(2, block), 8));
   CHECK(qrm::detail::plan_runs(std::vector<any>(10, block), n, 10, 4, 0).size() == 1);  // threshold 0: chunked
+  // Which scalars and arithmetic make an 8x8 block wait on memory (one FMA per 8 bytes or less).
+  qrm::detail::exec_policy ex;
+  CHECK(qrm::detail::memory_bound_dim<std::complex<double>>(ex) == 8);
+  CHECK(qrm::detail::memory_bound_dim<double>(ex) == 8);
+  CHECK(qrm::detail::memory_bound_dim<std::complex<float>>(ex) == 4);
+  ex.math = qrm::float_math::single_precision;
+  CHECK(qrm::detail::memory_bound_dim<std::complex<float>>(ex) == 8);
   // A count that is no number of passes is refused, not read as "chunk everything".
   qrm::state_vector<double> psi(4);
   for (double bad : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()})

@@ -174,7 +174,7 @@ flag_table simulate_flags() {
        "dense backend: runs of ops whose qubits fit a chunk of KIB KiB are applied chunk by chunk, one pass over "
        "memory per run (about the L2 cache; off: every op its own pass)",
        run},
-      {"chunk-passes", "P", "6",
+      {"chunk-passes", "P", "2",
        "dense backend: chunk a run only when its ops would make at least P passes over memory one by one (0: every "
        "run that fits a chunk)",
        run},

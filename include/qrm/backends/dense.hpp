@@ -193,7 +193,8 @@ class state_vector {
     const auto ck = checks();
     detail::validating_sink<decltype(ck)> validator{ck};
     for (const op::any& o : ops) emit_op(o, validator);
-    for (const detail::op_run& r : detail::plan_runs(ops, n_, m, detail::chunk_low_qubits<Scalar>(), chunk_min_passes_)) {
+    for (const detail::op_run& r : detail::plan_runs(ops, n_, m, detail::chunk_low_qubits<Scalar>(), chunk_min_passes_,
+                                                     detail::memory_bound_dim<Scalar>(ex_))) {
       if (r.local == 0)
         emit_op(ops[r.first], *this);
       else

@@ -70,25 +70,39 @@ struct op_run {
   std::uint64_t local = 0;
 };
 
-// Whether an op's kernel waits on memory: everything but matrices on 3 or more qubits, which do
-// at least 8 complex multiply-adds per amplitude and run as fast from memory as from cache (an
-// 8x8 complex<float> matrix: 0.37 ns per amplitude at n = 15 and 0.41 at n = 21, AMD EPYC VM,
-// 2026-12-04). Only such ops gain from a chunk; for the others its copy would be pure cost.
-// Sparse 8x8 blocks (2 multiply-adds per amplitude at fixed width) come close to memory speed
-// (0.15 ns per amplitude in L2, 0.17 from memory) but chunking runs of them was still slower
-// than op by op on the fused walk (0.19 s against 0.16 s), so they count as arithmetic-bound too.
+// Whether an op's kernel waits on memory, for matrices up to `widest_memory_bound` rows (see
+// memory_bound_dim): every op but a matrix on more qubits, whose multiply-adds per amplitude
+// outlast the trip to memory. Only such ops gain from a chunk; for the others its copy is cost.
 template <int = 0>
-bool memory_bound(const op::any& o) {
-  if (const auto* u = std::get_if<op::unitary_op>(&o)) return u->targets.size() < 3;
-  if (const auto* u = std::get_if<op::mux_unitary_op>(&o)) return u->targets.size() < 3;
+bool memory_bound(const op::any& o, std::size_t widest_memory_bound) {
+  if (const auto* u = std::get_if<op::unitary_op>(&o)) return u->matrix.dim <= widest_memory_bound;
+  if (const auto* u = std::get_if<op::mux_unitary_op>(&o))
+    return (std::size_t{1} << u->targets.size()) <= widest_memory_bound;
   return true;
+}
+
+// The widest matrix that still waits on memory for amplitudes of type S computed as `ex` says:
+// a d x d real matrix costs d multiply-adds per amplitude component, so d * components * (bytes
+// of the arithmetic's type) against the amplitude's bytes. 8x8 blocks wait on memory in
+// complex<float> float arithmetic, complex<double> and double (one 16-lane or 8-lane FMA per 8
+// bytes), not in complex<float> double arithmetic (two per 8 bytes, plus the widening): measured
+// on the fused random suite (24 qubits) and decomposed walk (21 qubits), one thread, AMD EPYC
+// VM, 2026-12-05, bench/RESULTS.md: chunking the 8x8 blocks took complex<float> float arithmetic
+// from 0.57-0.72 s to 0.52 s and 0.144 s to 0.122-0.133 s, complex<double> from 1.47 s to
+// 1.31-1.34 s and 0.34-0.39 s to 0.27-0.33 s, and complex<float> in double arithmetic from
+// 0.72-0.74 s to 0.76-0.80 s (worse: left op by op).
+template <class S>
+constexpr std::size_t memory_bound_dim(const exec_policy& ex) {
+  const std::size_t arithmetic_bytes = float_arithmetic<S>(ex) ? 4 : 8;
+  const std::size_t components = scalar_traits<S>::is_complex ? 2 : 1;
+  return 8 * sizeof(S) / (components * arithmetic_bytes);
 }
 
 // The passes over memory an op costs applied on its own: 0 for an arithmetic-bound op, else 1
 // halved for each control on a qubit at or above `low` (below it, every line is read anyway).
 template <int = 0>
-double memory_passes(const op::any& o, unsigned low) {
-  if (!memory_bound(o)) return 0;
+double memory_passes(const op::any& o, unsigned low, std::size_t widest_memory_bound) {
+  if (!memory_bound(o, widest_memory_bound)) return 0;
   double passes = 1;
   visit_op(o, [&](const auto& x) {
     for (const control& c : x.controls)
@@ -97,21 +111,20 @@ double memory_passes(const op::any& o, unsigned low) {
   return passes;
 }
 
-// A run is chunked when its ops would make at least this many passes over memory on their own.
-// The chunk's copy and its in-cache work cost about as much as a few passes once the kernels run
-// at memory speed: on the AMD EPYC VM (2026-12-04, one thread, qrm::run harness) the fused random
-// suites took 0.55-0.58 s (24 qubits, complex<float>, float arithmetic) op by op, 0.70 s chunked
-// at 2 passes and more, 0.57 s at 6; the unfused decomposed walk (complex<double>) 3.1 s op by
-// op, 2.8 s at 2 passes, 3.0 s at 6.
-inline constexpr double min_chunked_passes = 6;
+// A run is chunked when its ops would make at least this many passes over memory on their own:
+// two ops that each wait on memory already pay for the chunk's copy (it streams at close to the
+// in-place rate since copy_run and copy_ahead; before them, 6 passes were needed). Same
+// measurements as memory_bound_dim: at 4 passes the fused programs ran within the noise of 2,
+// and the unfused ones within the noise of 6 at both.
+inline constexpr double min_chunked_passes = 2;
 
 // The runs of `ops` for chunks of m qubits in an n-qubit state (see the top of this header). Every
 // chunk holds the lowest `low` qubits, so a copied chunk moves runs of 2^low contiguous amplitudes
 // (one amplitude at a time would cost more than the ops it saves). A run is chunked when its
-// ops' memory_passes add up to min_passes.
+// ops' memory_passes (matrices up to widest_memory_bound rows waiting on memory) add up to min_passes.
 template <int = 0>
 std::vector<op_run> plan_runs(std::span<const op::any> ops, unsigned n, unsigned m, unsigned low = 0,
-                              double min_passes = min_chunked_passes) {
+                              double min_passes = min_chunked_passes, std::size_t widest_memory_bound = 4) {
   std::vector<op_run> runs;
   const std::uint64_t reserved = (std::uint64_t{1} << std::min(low, m)) - 1;
   std::uint64_t cur = reserved;
@@ -119,7 +132,7 @@ std::vector<op_run> plan_runs(std::span<const op::any> ops, unsigned n, unsigned
   auto close = [&](std::size_t end) {
     if (end == start) return;
     double passes = 0;
-    for (std::size_t i = start; i < end; ++i) passes += memory_passes(ops[i], low);
+    for (std::size_t i = start; i < end; ++i) passes += memory_passes(ops[i], low, widest_memory_bound);
     if (passes < min_passes) {
       for (std::size_t i = start; i < end; ++i) runs.push_back({i, i + 1, 0});
     } else {
