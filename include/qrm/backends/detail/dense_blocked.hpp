@@ -111,11 +111,13 @@ double memory_passes(const op::any& o, unsigned low, std::size_t widest_memory_b
   return passes;
 }
 
-// A run is chunked when its ops would make at least this many passes over memory on their own:
-// two ops that each wait on memory already pay for the chunk's copy (it streams at close to the
-// in-place rate since copy_run and copy_ahead; before them, 6 passes were needed). Same
-// measurements as memory_bound_dim: at 4 passes the fused programs ran within the noise of 2,
-// and the unfused ones within the noise of 6 at both.
+// A run is chunked when its ops would make at least this many passes over memory on their own.
+// Copying every chunk of a 2^24-amplitude complex<float> state in and out costs 2.1-3.3 in-place
+// passes (runs of 128 bytes to 4 KiB, chunks of 2^15 to 2^17 amplitudes; AMD EPYC VM,
+// 2026-12-05; a prefetch distance of 8 KiB instead of 16 runs, or non-temporal stores, did not
+// change the random suite's time), and the ops then run from cache, so a run breaks even at 2 to
+// 3 passes. Same measurements as memory_bound_dim: at 4 passes the fused programs ran within the
+// noise of 2, and the unfused ones within the noise of 6 at both.
 inline constexpr double min_chunked_passes = 2;
 
 // The runs of `ops` for chunks of m qubits in an n-qubit state (see the top of this header). Every
