@@ -9,7 +9,7 @@
 // 3 AVX-512), threads, chunk (KiB of the chunks qrm::run applies runs of ops in, see
 // dense_options::chunk_bytes; 0: op by op, as every run before chunks existed). complex<float> runs twice: in double
 // arithmetic (the default) and in float arithmetic (qrm::float_math::single_precision, the
-// precision Google qsim computes in).
+// precision Google qsim computes in); double runs the random suites.
 #include <benchmark/benchmark.h>
 
 #include <complex>
@@ -81,6 +81,16 @@ BENCHMARK(BM_fusion<std::complex<float>>)
     ->ArgNames({"circuit", "fuse", "simd", "threads", "chunk"})
     ->ArgsProduct({{0, 1}, {0, 3, 4}, {0}, {1}, {0}})
     ->ArgsProduct({{2}, {3}, {0}, {1, 2}, {0}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->Repetitions(3);
+// Real amplitudes (the random suites are real): a fused matrix off qubit 0 runs on the complex<double>
+// kernels with the state read as complex pairs, one on qubit 0 by row lists.
+BENCHMARK(BM_fusion<double>)
+    ->ArgNames({"circuit", "fuse", "simd", "threads", "chunk"})
+    ->ArgsProduct({{1, 3}, {0, 3}, {0}, {1}, {1024}})
+    ->ArgsProduct({{3}, {0, 3}, {0}, {1}, {0}})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
