@@ -518,14 +518,14 @@ TEST_CASE("a fused block drops the rounding residue of its product, and only tha
 }
 
 TEST_CASE("8x8 matrices with targets among the lanes of one register match the reference") {
-  // At AVX-512 a register holds amplitudes 0..7 of a run in float arithmetic (0..3 in double),
-  // so targets on qubits 0..2 (0..1) are permutations of its lanes (dense_lanes.hpp), compiled
+  // At AVX-512 a register holds amplitudes 0..7 of a run in float arithmetic (0..3 in double, 0..7
+  // of a real double state), so targets on qubits 0..2 (0..1) are permutations of its lanes (dense_lanes.hpp), compiled
   // per set of such targets and for real and complex matrices: every non-empty subset of
   // {0, 1, 2}, completed with targets from {4, 7, 9}, in scrambled order; dense and half-empty
   // matrices, real and complex; no control, a control above the lanes, and one inside them
   // (which takes the gathered bases instead). Bars: 2e-5 in float arithmetic as for the other
   // float blocks; complex<float> in double arithmetic rounds only when it stores (2^-24 of each
-  // amplitude, bar 1e-6); complex<double> 1e-12.
+  // amplitude, bar 1e-6); complex<double> and real double 1e-12.
   qrm::rng g(33);
   const unsigned n = 11;
   int runs = 0;
@@ -574,6 +574,19 @@ TEST_CASE("8x8 matrices with targets among the lanes of one register match the r
           d.apply_unitary(m, ts, cs);
           CHECK(max_diff(std::vector<std::complex<double>>(d.amplitudes().begin(), d.amplitudes().end()), ref_d.amp) <=
                 1e-12);
+          if (!complex_values) {  // real amplitudes: eight doubles per register, qubits 0..2 as lanes
+            std::vector<double> real_start(start.size());
+            for (std::size_t i = 0; i < start.size(); ++i) real_start[i] = start[i].real();
+            qrm::state_vector<double> r(n, o);
+            r.set_amplitudes(real_start);
+            reference_state ref_r(n);
+            for (std::size_t i = 0; i < start.size(); ++i) ref_r.amp[i] = real_start[i];
+            ref_r.apply_unitary(m, ts, cs);
+            r.apply_unitary(m, ts, cs);
+            double worst = 0;
+            for (std::size_t i = 0; i < start.size(); ++i) worst = std::max(worst, std::abs(r.amplitudes()[i] - ref_r.amp[i]));
+            CHECK(worst <= 1e-12);
+          }
           ++runs;
         }
       }

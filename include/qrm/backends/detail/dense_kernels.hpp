@@ -464,6 +464,14 @@ struct unitary_plan {
         for (std::size_t i = 0; i < ts.size(); ++i) above[i] = ts[i] - 1;
         on_pairs = std::make_unique<unitary_plan<std::complex<double>>>(mat, above, cmask >> 1, ex);
       }
+#ifdef QRM_HAS_CPU_DISPATCH
+      // Else, at AVX-512, an 8x8 matrix with a target on qubits 0-2 and no control there: those
+      // targets are lanes of eight doubles (dense_lanes.hpp).
+      std::uint64_t tmask = 0;
+      for (const qubit_index t : ts) tmask |= std::uint64_t{1} << t;
+      lane_path = !on_pairs && mat.dim == 8 && mat.is_real() && (tmask & 7) != 0 && (cmask & 7) == 0 &&
+                  resolve_simd(ex.simd) == simd_level::avx512;
+#endif
     }
     if constexpr (scalar_traits<S>::is_complex) {
       if (mat.dim > vector_kernel_max_dim) return;
@@ -568,6 +576,13 @@ void apply_unitary_plan(S* a, unsigned n, const unitary_plan<S>& plan, std::uint
     if (plan.on_pairs && n >= 2)
       return apply_unitary_plan(reinterpret_cast<std::complex<double>*>(a), n - 1, *plan.on_pairs, tmask >> 1, cmask >> 1,
                                 cvalue >> 1, ex);
+#ifdef QRM_HAS_CPU_DISPATCH
+    if (plan.lane_path) {
+      const subspace bases(n, cmask | (tmask & ~std::uint64_t{7}), cvalue);
+      const auto chunks = [&](auto&& g) { for_each_chunk(bases, ex, 8, g); };
+      return lane_mix<S, double, 8>(a, *plan.m, std::span<const qubit_index>(plan.targets), bases, chunks);
+    }
+#endif
   }
   const dense_matrix& m = *plan.m;
   const subspace s(n, cmask | tmask, cvalue);

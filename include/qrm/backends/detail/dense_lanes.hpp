@@ -11,7 +11,8 @@
 // coefficient(h, c, P)[l] times lane l ^ P of column c: the 2^|L| lane permutations of each
 // column are fixed shuffles, and the coefficients are vectors, one value per lane (the matrix
 // entry that lane's row and column select). The products per amplitude are those of the dense
-// form: a 2^k-entry row for every output.
+// form: a 2^k-entry row for every output. Real amplitudes (double) are lanes of one value each:
+// eight per register, qubits 0-2.
 #pragma once
 
 #include <array>
@@ -39,13 +40,17 @@ struct lane_mix_job {
   void* amplitudes = nullptr;
 };
 
-// out = v with complex lane l taken from lane l ^ X (each complex is two neighbouring values).
-// Vectors by reference: a vector returned by value would be passed in registers its caller's
-// ISA may lack (-Wpsabi).
-template <unsigned X, class V, std::size_t... I>
-[[gnu::always_inline]] inline void xor_complex_lanes(const V& v, V& out, std::index_sequence<I...>) {
-  out = __builtin_shufflevector(v, v, static_cast<int>((((I / 2) ^ X) * 2) + I % 2)...);
+// out = v with amplitude lane l taken from lane l ^ X (each amplitude is C neighbouring values:
+// 2 for a complex number, 1 for a real one). Vectors by reference: a vector returned by value
+// would be passed in registers its caller's ISA may lack (-Wpsabi).
+template <unsigned X, unsigned C, class V, std::size_t... I>
+[[gnu::always_inline]] inline void xor_lanes(const V& v, V& out, std::index_sequence<I...>) {
+  out = __builtin_shufflevector(v, v, static_cast<int>((((I / C) ^ X) * C) + I % C)...);
 }
+
+// Values per amplitude of S: 2 for complex types, 1 for real ones.
+template <class S>
+inline constexpr unsigned values_per_amplitude = scalar_traits<S>::is_complex ? 2 : 1;
 
 template <class V, std::size_t... I>
 [[gnu::always_inline]] inline void swap_real_imaginary(const V& v, V& out, std::index_sequence<I...>) {
@@ -63,19 +68,26 @@ constexpr std::array<unsigned, (1u << std::popcount(Mask))> subsets_of() {
   return r;
 }
 
+// N amplitudes of S in one register of A values (N complex numbers are 2N values).
+template <class S, class A, unsigned N>
+using amplitude_lanes = typename lanes<A, values_per_amplitude<S> * N / 2>::type;
+
 template <class S, class A, unsigned N, unsigned LowMask, std::size_t... Q>
-[[gnu::always_inline]] inline void permute_all(const typename lanes<A, N>::type& w, typename lanes<A, N>::type* x,
+[[gnu::always_inline]] inline void permute_all(const amplitude_lanes<S, A, N>& w, amplitude_lanes<S, A, N>* x,
                                                std::index_sequence<Q...>) {
   constexpr auto patterns = subsets_of<LowMask>();
-  (xor_complex_lanes<patterns[Q]>(w, x[Q], std::make_index_sequence<2 * N>{}), ...);
+  constexpr unsigned C = values_per_amplitude<S>;
+  (xor_lanes<patterns[Q], C>(w, x[Q], std::make_index_sequence<C * N>{}), ...);
 }
 
 template <class S, class A, unsigned N, unsigned Dim, unsigned LowMask, bool RealMatrix>
 [[gnu::always_inline]] inline void lane_mix_body(const lane_mix_job<A>& job, const subspace& s, std::uint64_t k0,
                                                  std::uint64_t k1) {
   using R = typename scalar_traits<S>::real;
-  using vec = typename lanes<A, N>::type;
-  using stored = typename lanes<R, N>::type;
+  using vec = amplitude_lanes<S, A, N>;
+  using stored = amplitude_lanes<S, R, N>;
+  constexpr unsigned C = values_per_amplitude<S>;
+  static_assert(C == 2 || RealMatrix, "real amplitudes take real matrices only");
   R* p = static_cast<R*>(job.amplitudes);
   constexpr unsigned Patterns = 1u << std::popcount(LowMask), Columns = Dim / Patterns, dim = Dim;
   // The job's fields in locals: stores through p (memcpy) may alias the job, so the compiler
@@ -86,34 +98,34 @@ template <class S, class A, unsigned N, unsigned Dim, unsigned LowMask, bool Rea
   const A* const coef_im = job.coef_im;
   vec x[dim];
   vec sign;
-  for (unsigned l = 0; l < 2 * N; ++l) sign[l] = (l % 2 == 0) ? -1.0 : 1.0;
+  for (unsigned l = 0; l < C * N; ++l) sign[l] = (l % 2 == 0) ? -1.0 : 1.0;
   for (run_cursor runs(s, k0, k1); !runs.done(); runs.next()) {
     const std::uint64_t first = runs.first(), len = runs.length();
     for (std::uint64_t b = first; b < first + len; b += N) {
       for (unsigned c = 0; c < Columns; ++c) {
-        if ((b & (64 / sizeof(S) - 1)) == 0) prefetch_for_write(p, 2 * (b + offset[c]) + 8192 / sizeof(R));
+        if ((b & (64 / sizeof(S) - 1)) == 0) prefetch_for_write(p, C * (b + offset[c]) + 8192 / sizeof(R));
         stored v;
-        std::memcpy(&v, p + 2 * (b + offset[c]), sizeof v);
+        std::memcpy(&v, p + C * (b + offset[c]), sizeof v);
         vec w;
         widen(v, w);
         permute_all<S, A, N, LowMask>(w, x + c * Patterns, std::make_index_sequence<Patterns>{});
       }
       for (unsigned r = 0; r < Columns; ++r) {
         vec acc = {}, acc_im = {};
-        const A* cr = coef_re + std::size_t{r} * dim * 2 * N;
-        const A* ci = coef_im + std::size_t{r} * dim * 2 * N;
+        const A* cr = coef_re + std::size_t{r} * dim * C * N;
+        const A* ci = coef_im + std::size_t{r} * dim * C * N;
         for (unsigned t = 0; t < dim; ++t) {
           vec cre, cim;
-          std::memcpy(&cre, cr + t * 2 * N, sizeof cre);
+          std::memcpy(&cre, cr + t * C * N, sizeof cre);
           acc += cre * x[t];
           if constexpr (!RealMatrix) {
-            std::memcpy(&cim, ci + t * 2 * N, sizeof cim);
+            std::memcpy(&cim, ci + t * C * N, sizeof cim);
             acc_im += cim * x[t];
           }
         }
         if constexpr (!RealMatrix) {
           vec swapped;
-          swap_real_imaginary(acc_im, swapped, std::make_index_sequence<2 * N>{});
+          swap_real_imaginary(acc_im, swapped, std::make_index_sequence<C * N>{});
           acc += swapped * sign;  // + i * acc_im
         }
         stored out;
@@ -121,7 +133,7 @@ template <class S, class A, unsigned N, unsigned Dim, unsigned LowMask, bool Rea
           out = acc;
         else
           out = __builtin_convertvector(acc, stored);
-        std::memcpy(p + 2 * (b + offset[r]), &out, sizeof out);
+        std::memcpy(p + C * (b + offset[r]), &out, sizeof out);
       }
     }
   }
@@ -131,22 +143,26 @@ template <class S, class A, unsigned N, unsigned Dim, unsigned LowMask, bool Rea
 template <class S, class A, unsigned N, unsigned Dim, unsigned LowMask>
 __attribute__((target("avx512f"))) void lane_mix_avx512(const lane_mix_job<A>& job, const subspace& s,
                                                         std::uint64_t k0, std::uint64_t k1) {
-  if (job.real)
+  if constexpr (!scalar_traits<S>::is_complex)
+    lane_mix_body<S, A, N, Dim, LowMask, true>(job, s, k0, k1);
+  else if (job.real)
     lane_mix_body<S, A, N, Dim, LowMask, true>(job, s, k0, k1);
   else
     lane_mix_body<S, A, N, Dim, LowMask, false>(job, s, k0, k1);
 }
 
 // Applies a Dim x Dim m on `targets` to the bases of `s` (controls and the targets at or above
-// log2(N) fixed; no control below log2(N)), N complex numbers of type A per 512-bit register,
+// log2(N) fixed; no control below log2(N)), N amplitudes in values of type A per 512-bit register,
 // the targets below log2(N) as lanes; `chunks(g)` calls g(k0, k1) over s. Compiled for Dim x Dim
 // matrices, Dim 8 (fused blocks are 8x8 unless a circuit has fewer qubits to fuse) or 2 (a
-// 1-qubit gate on qubit 0 or 1 of complex<float> in double arithmetic), with fixed trip counts and
+// 1-qubit gate on qubit 0 or 1 of complex<float> in double arithmetic; real double states: Dim 8, N 8),
+// with fixed trip counts and
 // permutations: with run-time ones the inputs stayed in memory and the form lost to the gathered
 // bases.
 template <class S, class A, unsigned N, unsigned Dim = 8, class Chunks>
 void lane_mix(S* a, const dense_matrix& m, std::span<const qubit_index> targets, const subspace& s, Chunks&& chunks) {
-  static_assert(2 * N * sizeof(A) == 64 && (Dim == 2 || Dim == 8));
+  constexpr unsigned C = values_per_amplitude<S>;
+  static_assert(C * N * sizeof(A) == 64 && (Dim == 2 || Dim == 8));
   constexpr unsigned lane_bits = std::countr_zero(N);
   std::array<qubit_index, 8> low{}, high{};
   std::array<unsigned, 8> low_at{}, high_at{};  // the matrix index bit of each
@@ -178,15 +194,17 @@ void lane_mix(S* a, const dense_matrix& m, std::span<const qubit_index> targets,
     return at;
   };
   // Aligned: a coefficient vector split across two cache lines doubled the kernel's time.
-  alignas(64) std::array<A, 8 * 8 * 2 * N> re{}, im{};
+  alignas(64) std::array<A, 8 * 8 * C * N> re{}, im{};
   for (unsigned r = 0; r < columns; ++r)
     for (unsigned t = 0; t < Dim; ++t)
       for (unsigned l = 0; l < N; ++l) {
         const unsigned c = t / patterns, q = t % patterns;
         const complex z = m(matrix_index(r, l), matrix_index(c, l ^ lane_xor[q]));
-        const std::size_t at = (std::size_t{r} * Dim + t) * 2 * N + 2 * l;
-        re[at] = re[at + 1] = static_cast<A>(z.real());
-        im[at] = im[at + 1] = static_cast<A>(z.imag());
+        const std::size_t at = (std::size_t{r} * Dim + t) * C * N + C * l;
+        for (unsigned v = 0; v < C; ++v) {
+          re[at + v] = static_cast<A>(z.real());
+          im[at + v] = static_cast<A>(z.imag());
+        }
       }
   job.coef_re = re.data();
   job.coef_im = im.data();
