@@ -88,7 +88,7 @@ bool memory_bound(const op::any& o, std::size_t widest_memory_bound) {
 // bytes), not in complex<float> double arithmetic (two per 8 bytes, plus the widening): measured
 // on the fused random suite (24 qubits) and decomposed walk (21 qubits), one thread, AMD EPYC
 // VM, 2026-12-05, bench/RESULTS.md: chunking the 8x8 blocks took complex<float> float arithmetic
-// from 0.57-0.72 s to 0.52 s and 0.144 s to 0.122-0.133 s, complex<double> from 1.47 s to
+// from 0.57-0.68 s to 0.52 s and 0.144 s to 0.122-0.133 s, complex<double> from 1.47 s to
 // 1.31-1.34 s and 0.34-0.39 s to 0.27-0.33 s, and complex<float> in double arithmetic from
 // 0.72-0.74 s to 0.76-0.80 s (worse: left op by op).
 template <class S>

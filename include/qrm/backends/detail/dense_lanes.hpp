@@ -154,11 +154,10 @@ __attribute__((target("avx512f"))) void lane_mix_avx512(const lane_mix_job<A>& j
 // Applies a Dim x Dim m on `targets` to the bases of `s` (controls and the targets at or above
 // log2(N) fixed; no control below log2(N)), N amplitudes in values of type A per 512-bit register,
 // the targets below log2(N) as lanes; `chunks(g)` calls g(k0, k1) over s. Compiled for Dim x Dim
-// matrices, Dim 8 (fused blocks are 8x8 unless a circuit has fewer qubits to fuse) or 2 (a
-// 1-qubit gate on qubit 0 or 1 of complex<float> in double arithmetic; real double states: Dim 8, N 8),
-// with fixed trip counts and
-// permutations: with run-time ones the inputs stayed in memory and the form lost to the gathered
-// bases.
+// matrices, Dim 8 (fused blocks are 8x8 unless a circuit has fewer qubits to fuse; real double
+// states: N 8) or 2 (a 1-qubit gate on qubit 0 or 1 of complex<float> in double arithmetic), with
+// fixed trip counts and permutations: with run-time ones the inputs stayed in memory and the form
+// lost to the gathered bases.
 template <class S, class A, unsigned N, unsigned Dim = 8, class Chunks>
 void lane_mix(S* a, const dense_matrix& m, std::span<const qubit_index> targets, const subspace& s, Chunks&& chunks) {
   constexpr unsigned C = values_per_amplitude<S>;
