@@ -86,7 +86,8 @@ BENCHMARK(BM_fusion<std::complex<float>>)
     ->Iterations(1)
     ->Repetitions(3);
 // Real amplitudes (the random suites are real): a fused matrix off qubit 0 runs on the complex<double>
-// kernels with the state read as complex pairs, one on qubit 0 by row lists.
+// kernels with the state read as complex pairs, an 8x8 one on qubit 0 as lanes of eight doubles
+// (AVX-512), the others by row lists.
 BENCHMARK(BM_fusion<double>)
     ->ArgNames({"circuit", "fuse", "simd", "threads", "chunk"})
     ->ArgsProduct({{1, 3}, {0, 3}, {0}, {1}, {1024}})

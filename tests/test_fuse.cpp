@@ -518,9 +518,9 @@ TEST_CASE("a fused block drops the rounding residue of its product, and only tha
 }
 
 TEST_CASE("8x8 matrices with targets among the lanes of one register match the reference") {
-  // At AVX-512 a register holds amplitudes 0..7 of a run in float arithmetic (0..3 in double, 0..7
-  // of a real double state), so targets on qubits 0..2 (0..1) are permutations of its lanes (dense_lanes.hpp), compiled
-  // per set of such targets and for real and complex matrices: every non-empty subset of
+  // At AVX-512 a register holds amplitudes 0..7 of a run in float arithmetic (0..3 in double,
+  // 0..7 of a real double state), so targets on qubits 0..2 (0..1) are permutations of its lanes
+  // (dense_lanes.hpp), compiled per set of such targets and for real and complex matrices: every non-empty subset of
   // {0, 1, 2}, completed with targets from {4, 7, 9}, in scrambled order; dense and half-empty
   // matrices, real and complex; no control, a control above the lanes, and one inside them
   // (which takes the gathered bases instead). Bars: 2e-5 in float arithmetic as for the other
