@@ -457,20 +457,17 @@ struct unitary_plan {
   unitary_plan(const dense_matrix& mat, std::span<const qubit_index> ts, [[maybe_unused]] std::uint64_t cmask,
                const exec_policy& ex)
       : m(&mat), targets(ts.begin(), ts.end()), offsets(target_offsets(ts)) {
+    [[maybe_unused]] std::uint64_t tmask = 0;  // real float states use neither form below
+    for (const qubit_index t : ts) tmask |= std::uint64_t{1} << t;
     if constexpr (std::is_same_v<S, double>) {
-      if (mat.dim <= vector_kernel_max_dim && (cmask & 1) == 0 &&
-          std::none_of(ts.begin(), ts.end(), [](qubit_index t) { return t == 0; })) {
+      if (mat.dim <= vector_kernel_max_dim && ((tmask | cmask) & 1) == 0) {
         std::vector<qubit_index> above(ts.size());
         for (std::size_t i = 0; i < ts.size(); ++i) above[i] = ts[i] - 1;
         on_pairs = std::make_unique<unitary_plan<std::complex<double>>>(mat, above, cmask >> 1, ex);
       }
 #ifdef QRM_HAS_CPU_DISPATCH
-      // Else, at AVX-512, an 8x8 matrix with a target on qubits 0-2 and no control there: those
-      // targets are lanes of eight doubles (dense_lanes.hpp).
-      std::uint64_t tmask = 0;
-      for (const qubit_index t : ts) tmask |= std::uint64_t{1} << t;
-      lane_path = !on_pairs && mat.dim == 8 && mat.is_real() && (tmask & 7) != 0 && (cmask & 7) == 0 &&
-                  resolve_simd(ex.simd) == simd_level::avx512;
+      // Else a real 8x8 matrix may take the lanes of eight doubles.
+      lane_path = !on_pairs && mat.is_real() && takes_lanes(mat, tmask, cmask, 7, resolve_simd(ex.simd));
 #endif
     }
     if constexpr (scalar_traits<S>::is_complex) {
@@ -478,16 +475,9 @@ struct unitary_plan {
       vector_kernel = true;
       level = resolve_simd(ex.simd);
 #ifdef QRM_HAS_CPU_DISPATCH
-      // At AVX-512, an 8x8 matrix with a target among the amplitudes a register holds (qubits
-      // 0-2 in float arithmetic, 0-1 in double) and no control there: those targets are lanes
-      // (dense_lanes.hpp) instead of bases gathered four at a time.
-      if (level == simd_level::avx512 && mat.dim == 8) {
-        std::uint64_t tmask = 0;
-        for (const qubit_index t : ts) tmask |= std::uint64_t{1} << t;
-        const std::uint64_t lanes = float_arithmetic<S>(ex) ? 7 : 3;
-        lane_path = (tmask & lanes) != 0 && (cmask & lanes) == 0;
-        if (lane_path) return;
-      }
+      // Qubits 0-2 are lanes in float arithmetic, 0-1 in double: otherwise bases gathered four at a time.
+      lane_path = takes_lanes(mat, tmask, cmask, float_arithmetic<S>(ex) ? 7 : 3, level);
+      if (lane_path) return;
 #endif
       rows = csr_matrix::of(mat);
       // The matrix in the order applied: reordered when that puts it in a smaller offset set
@@ -541,6 +531,12 @@ struct unitary_plan {
         rows_im_f.assign(rows.im.begin(), rows.im.end());
       }
     }
+  }
+  // At AVX-512, an 8x8 matrix with a target among the amplitudes one register holds (the qubits
+  // of `lanes`) and no control there: those targets are lanes (dense_lanes.hpp).
+  static bool takes_lanes(const dense_matrix& mat, std::uint64_t tmask, std::uint64_t cmask, std::uint64_t lanes,
+                          simd_level level) {
+    return level == simd_level::avx512 && mat.dim == 8 && (tmask & lanes) != 0 && (cmask & lanes) == 0;
   }
   // A job points into the plan: valid while the plan is neither moved nor destroyed.
   csr_job<S> job(S* a, unsigned n) const {
