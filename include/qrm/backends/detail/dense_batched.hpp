@@ -404,11 +404,21 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
   vec sign;
   for (unsigned l = 0; l < 2 * N; ++l) sign[l] = (l % 2 == 0) ? -1.0 : 1.0;
 
+  // How far ahead each column is prefetched, in R values (see below): 8 KiB of addresses, or the
+  // same place in the next block where a 2x2 matrix's runs are 8 to 128 KiB long. There, 8 KiB on
+  // is the other column's stream (or, near a run's end, a skipped gap), so the first 8 KiB of
+  // every run went unfetched: a complex<float> 2x2 gate at n = 25 took 20-29 ms on targets
+  // 10-11 against 12-13 ms on target 24; a block ahead, 14-19 ms (AMD EPYC VM, 2026-12-05,
+  // bench/RESULTS.md). Chosen per call: an address computed per line or per run cost the
+  // in-cache gate on target 2 (runs of 4) 20-40%. Wider matrices keep 8 KiB.
+  const std::uint64_t run_bytes = sizeof(S) << s.run_log2();
+  const bool block_ahead = dim <= 2 && s.npos != 0 && run_bytes >= 8192 && run_bytes <= 128 * 1024;
+  const std::uint64_t ahead = (block_ahead ? 2 * run_bytes : 8192) / sizeof(R);
   for (run_cursor runs(s, k0, k1); !runs.done(); runs.next()) {
     const std::uint64_t first = runs.first(), len = runs.length();
     for (std::uint64_t b = first; b < first + len; b += Contiguous ? N : 1) {
       // Each column is its own stream, and streams 2^t apart that jump every 2^t amplitudes
-      // defeat the hardware prefetcher (see for_each_pair): fetch each one's line 8 KiB ahead
+      // defeat the hardware prefetcher (see for_each_pair): fetch each one's line ahead
       // (an 8x8 real matrix on targets 4, 8, 9, n = 24: 7.0 -> 5.1 ms). The offset-set and
       // fixed-width forms in float arithmetic have too few products to hide it where the state
       // sits in a cache (the fused 21-qubit walk: 0.155 -> 0.170 s with it at width 3; 0.096-0.099
@@ -417,7 +427,7 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
       if constexpr (Contiguous)
         if (((XorSet == 0 && K == 0) || std::is_same_v<A, double> || job.streams) && (b & (64 / sizeof(S) - 1)) == 0)
           for (std::size_t c = 0; c < dim; ++c)
-            prefetch_for_write(p, 2 * (b + load_off[c]) + 8192 / sizeof(R));
+            prefetch_for_write(p, 2 * (b + load_off[c]) + ahead);
       for (std::size_t c = 0; c < dim; ++c) {
         stored v;
         if constexpr (Contiguous) {
