@@ -408,7 +408,7 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
   // same place in the next block where a 2x2 matrix's runs are 8 to 128 KiB long. There, 8 KiB on
   // is the other column's stream (or, near a run's end, a skipped gap), so the first 8 KiB of
   // every run went unfetched: a complex<float> 2x2 gate at n = 25 took 20-29 ms on targets
-  // 10-11 against 12-13 ms on target 24; a block ahead, 14-19 ms (AMD EPYC VM, 2026-12-05,
+  // 10-11 against 11-13 ms on target 24; a block ahead, 14-19 ms (AMD EPYC VM, 2026-12-05,
   // bench/RESULTS.md). Chosen per call: an address computed per line or per run cost the
   // in-cache gate on target 2 (runs of 4) 20-40%. Wider matrices keep 8 KiB.
   const std::uint64_t run_bytes = sizeof(S) << s.run_log2();
