@@ -6,7 +6,7 @@
 // in test_estimation); the RMS error in radiance units, and the projected hardware time of the
 // mean run (qrm/resources: Clifford+T lowering of A and Q, surface-code plan per preset).
 // Classical: the random walk with the circuit's transition probabilities (qrm::monte_carlo) at
-// 4^2..4^9 paths, its RMS error against the exact path sum, and its CPU time on one core.
+// 4^2..4^9 paths, its RMS error against the exact path sum, and its median CPU time on one core.
 // Crossover: both curves are fitted as power laws T = c eps^b (least squares in log-log); the
 // quantum method is cheaper below eps* where the fits meet, if its slope is shallower. eps* is
 // flagged when it lies outside the errors actually measured (an extrapolation).
@@ -14,6 +14,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -53,7 +54,7 @@ struct measured {
   std::uint64_t max_power = 0;         // quantum: largest over the repetitions
   bool rescaled = false;               // quantum: runs A with FAE's rescaling ancilla
   double paths = 0;                    // classical
-  double cpu_seconds = 0;              // classical: mean CPU time of one estimate (one core)
+  double cpu_seconds = 0;              // classical: median CPU time of one estimate (one core)
 };
 
 // The calling thread's CPU time in seconds, where the platform has a thread clock (else wall
@@ -182,25 +183,31 @@ crossover_result run_crossover(const crossover_request& req) {
   }
 
   // Classical Monte Carlo: errors and the CPU time of each estimate on its thread (thread_seconds).
-  std::vector<measured> classical;
-  for (const std::uint64_t paths : path_counts) {
-    std::vector<double> sq(reps), secs(reps);
-    qrm::detail::parallel_jobs(reps, threads, [&](std::size_t j) {
+  // Each repetition runs every path count in turn, so a change of load on the machine (another
+  // process on the core's SMT sibling, say) falls on all counts alike instead of on the few that
+  // happened to run meanwhile (timed one count after another, that bent the fit to -1.62 under a
+  // sanitizer); the median over the repetitions drops what spikes remain.
+  const std::size_t counts = path_counts.size();
+  std::vector<double> sq(counts * reps), secs(counts * reps);
+  qrm::detail::parallel_jobs(reps, threads, [&](std::size_t j) {
+    for (std::size_t c = 0; c < counts; ++c) {
       qrm::rng g = qrm::rng::stream(seed + 1, j);
       const double t0 = thread_seconds();
-      const auto est = qrm::monte_carlo(m, cell.start, steps, 0, paths, g);
-      secs[j] = thread_seconds() - t0;
-      sq[j] = (est.mean - cell.classical_mean) * (est.mean - cell.classical_mean);
+      const auto est = qrm::monte_carlo(m, cell.start, steps, 0, path_counts[c], g);
+      secs[c * reps + j] = thread_seconds() - t0;
+      sq[c * reps + j] = (est.mean - cell.classical_mean) * (est.mean - cell.classical_mean);
       bar.advance();
-    });
-    measured p{"mc", "paths=" + std::to_string(paths)};
-    p.paths = static_cast<double>(paths);
-    for (std::size_t j = 0; j < reps; ++j) {
-      p.rmse += sq[j];
-      p.cpu_seconds += secs[j];
     }
+  });
+  std::vector<measured> classical;
+  for (std::size_t c = 0; c < counts; ++c) {
+    measured p{"mc", "paths=" + std::to_string(path_counts[c])};
+    p.paths = static_cast<double>(path_counts[c]);
+    for (std::size_t j = 0; j < reps; ++j) p.rmse += sq[c * reps + j];  // fixed order: deterministic
     p.rmse = std::sqrt(p.rmse / static_cast<double>(reps));
-    p.cpu_seconds /= static_cast<double>(reps);
+    const auto row = secs.begin() + static_cast<std::ptrdiff_t>(c * reps);
+    std::sort(row, row + static_cast<std::ptrdiff_t>(reps));
+    p.cpu_seconds = reps % 2 ? row[reps / 2] : 0.5 * (row[reps / 2 - 1] + row[reps / 2]);
     classical.push_back(p);
   }
   bar.finish();
@@ -242,7 +249,7 @@ crossover_result run_crossover(const crossover_request& req) {
         "error budget " + json_number(eps) + " per circuit run split in thirds, P_L = 0.03 (p/0.01)^((d+1)/2), one T "
         "state per logical cycle, 15-to-1 factories (include/qrm/resources/surface_code.hpp); shots run one after "
         "another on one machine. Monte Carlo: the classical random walk with the circuit's transition "
-        "probabilities on one core of the machine that ran this command (each estimate's CPU time on its thread). Errors are RMS over the repetitions, in "
+        "probabilities on one core of the machine that ran this command (each estimate's CPU time on its thread, median over the repetitions). Errors are RMS over the repetitions, in "
         "radiance units; each curve is fitted as a power law T = c eps^b.\n\n";
   md += "Monte Carlo fit: slope " + short_number(mc_fit.slope) + " (1/eps^2 is -2), r^2 = " +
         short_number(mc_fit.r_squared) + ", measured down to eps = " + short_number(eps_min_mc) + ".\n\n";
