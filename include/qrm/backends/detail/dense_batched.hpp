@@ -330,6 +330,17 @@ template <class S>
   __builtin_prefetch(reinterpret_cast<const void*>(reinterpret_cast<std::uintptr_t>(a) + i * sizeof(S)), 1);
 }
 
+// How many bytes ahead a kernel prefetches that walks a run and its partner run as two streams
+// (a 2x2 matrix's two columns, an X swap's two halves): 8 KiB of addresses, or the same place in
+// the next block where the runs are 8 to 128 KiB long. There, 8 KiB on is the other stream (or,
+// near a run's end, a skipped gap), so the first 8 KiB of every run went unfetched: a
+// complex<float> 2x2 gate at n = 25 took 20-29 ms on targets 10-11 against 11-13 ms on target
+// 24; a block ahead, 14-19 ms (AMD EPYC VM, 2026-12-05, bench/RESULTS.md). Chosen once per call:
+// an address computed per line or per run cost the in-cache gate on target 2 (runs of 4) 20-40%.
+[[gnu::always_inline]] inline std::uint64_t paired_prefetch_bytes(std::uint64_t run_bytes) {
+  return run_bytes >= 8192 && run_bytes <= 128 * 1024 ? 2 * run_bytes : 8192;
+}
+
 // x86-64 under g++ or clang: kernels compiled per ISA (target attributes), chosen at run time.
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define QRM_HAS_CPU_DISPATCH 1
@@ -404,16 +415,10 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
   vec sign;
   for (unsigned l = 0; l < 2 * N; ++l) sign[l] = (l % 2 == 0) ? -1.0 : 1.0;
 
-  // How far ahead each column is prefetched, in R values (see below): 8 KiB of addresses, or the
-  // same place in the next block where a 2x2 matrix's runs are 8 to 128 KiB long. There, 8 KiB on
-  // is the other column's stream (or, near a run's end, a skipped gap), so the first 8 KiB of
-  // every run went unfetched: a complex<float> 2x2 gate at n = 25 took 20-29 ms on targets
-  // 10-11 against 11-13 ms on target 24; a block ahead, 14-19 ms (AMD EPYC VM, 2026-12-05,
-  // bench/RESULTS.md). Chosen per call: an address computed per line or per run cost the
-  // in-cache gate on target 2 (runs of 4) 20-40%. Wider matrices keep 8 KiB.
-  const std::uint64_t run_bytes = sizeof(S) << s.run_log2();
-  const bool block_ahead = dim <= 2 && s.npos != 0 && run_bytes >= 8192 && run_bytes <= 128 * 1024;
-  const std::uint64_t ahead = (block_ahead ? 2 * run_bytes : 8192) / sizeof(R);
+  // How far ahead each column is prefetched, in R values (see below): a 2x2 matrix's columns are
+  // paired streams (paired_prefetch_bytes); wider matrices keep 8 KiB.
+  const std::uint64_t paired = dim <= 2 && s.npos != 0 ? paired_prefetch_bytes(sizeof(S) << s.run_log2()) : 8192;
+  const std::uint64_t ahead = paired / sizeof(R);
   for (run_cursor runs(s, k0, k1); !runs.done(); runs.next()) {
     const std::uint64_t first = runs.first(), len = runs.length();
     for (std::uint64_t b = first; b < first + len; b += Contiguous ? N : 1) {

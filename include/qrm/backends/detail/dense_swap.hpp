@@ -101,13 +101,14 @@ template <class V>
 [[gnu::always_inline]] inline void swap_runs_masked(const masked_swap_job& job) {
   constexpr unsigned per = sizeof(V) / 4;
   const std::uint64_t dist = job.dist / 4, wrap = job.pattern_lanes - 1;
+  const std::uint64_t ahead = paired_prefetch_bytes(job.runs.run * job.element_bytes) / 4;
   for (run_cursor runs = job.runs; !runs.done(); runs.next()) {
     auto* p = reinterpret_cast<std::uint32_t*>(job.base + runs.first() * job.element_bytes);
     const std::uint64_t lanes = runs.length() * job.element_bytes / 4;
     for (std::uint64_t j = 0; j < lanes; j += per) {
-      if (j % 16 == 0) {  // both streams, one line at a time, 8 KiB ahead (as for_each_pair does)
-        prefetch_for_write(p, j + 2048);
-        prefetch_for_write(p, j + dist + 2048);
+      if (j % 16 == 0) {  // both streams, one line at a time
+        prefetch_for_write(p, j + ahead);
+        prefetch_for_write(p, j + dist + ahead);
       }
       V x, y, m;
       std::memcpy(&x, p + j, sizeof(V));
