@@ -517,11 +517,11 @@ TEST_CASE("a fused block drops the rounding residue of its product, and only tha
   CHECK(tiny == 4);  // the rotation's two off-diagonal entries, once for each value of qubit 1
 }
 
-TEST_CASE("8x8 matrices with targets among the lanes of one register match the reference") {
+TEST_CASE("4x4 and 8x8 matrices with targets among the lanes of one register match the reference") {
   // At AVX-512 a register holds amplitudes 0..7 of a run in float arithmetic (0..3 in double,
   // 0..7 of a real double state), so targets on qubits 0..2 (0..1) are permutations of its lanes
   // (dense_lanes.hpp), compiled per set of such targets and for real and complex matrices: every non-empty subset of
-  // {0, 1, 2}, completed with targets from {4, 7, 9}, in scrambled order; dense and half-empty
+  // {0, 1, 2} that fits the width, completed with targets from {4, 7, 9}, in scrambled order; dense and half-empty
   // matrices, real and complex; no control, a control above the lanes, and one inside them
   // (which takes the gathered bases instead). Bars: 2e-5 in float arithmetic as for the other
   // float blocks; complex<float> in double arithmetic rounds only when it stores (2^-24 of each
@@ -529,18 +529,21 @@ TEST_CASE("8x8 matrices with targets among the lanes of one register match the r
   qrm::rng g(33);
   const unsigned n = 11;
   int runs = 0;
+  for (unsigned width : {2u, 3u})
   for (unsigned low = 1; low < 8; ++low)
     for (bool complex_values : {false, true})
       for (bool half_empty : {false, true}) {
+        if (static_cast<unsigned>(std::popcount(low)) > width) continue;
         std::vector<qubit_index> ts;
         for (qubit_index q = 0; q < 3; ++q)
           if ((low >> q) & 1u) ts.push_back(q);
         for (qubit_index q : {9u, 4u, 7u})
-          if (ts.size() < 3) ts.push_back(q);
+          if (ts.size() < width) ts.push_back(q);
         std::rotate(ts.begin(), ts.begin() + 1, ts.end());  // not in increasing order
-        qrm::dense_matrix m(8);
-        for (std::size_t r = 0; r < 8; ++r)
-          for (std::size_t c = 0; c < 8; ++c)
+        const std::size_t dim = std::size_t{1} << width;
+        qrm::dense_matrix m(dim);
+        for (std::size_t r = 0; r < dim; ++r)
+          for (std::size_t c = 0; c < dim; ++c)
             if (!half_empty || g.uniform() < 0.5) m(r, c) = {2 * g.uniform() - 1, complex_values ? 2 * g.uniform() - 1 : 0.0};
         const qubit_index inside = (low & 2u) ? 10 : 1;  // a control among the lanes when qubit 1 is free
         for (const std::vector<qrm::control>& cs :
@@ -554,6 +557,7 @@ TEST_CASE("8x8 matrices with targets among the lanes of one register match the r
           auto b = float_state(n, qrm::simd_level::avx512, true, rounded);
           b.apply_unitary(m, ts, cs);
           const std::vector<std::complex<double>> got(b.amplitudes().begin(), b.amplitudes().end());
+          CAPTURE(width);
           CAPTURE(low);
           CAPTURE(complex_values);
           CAPTURE(half_empty);
@@ -590,7 +594,7 @@ TEST_CASE("8x8 matrices with targets among the lanes of one register match the r
           ++runs;
         }
       }
-  CHECK(runs == 7 * 2 * 2 * 3);
+  CHECK(runs == (6 + 7) * 2 * 2 * 3);  // width 2: the six subsets of one or two lane qubits
 }
 
 TEST_CASE("complex<float> in float arithmetic: single-qubit gates on targets 0..2 match the reference") {

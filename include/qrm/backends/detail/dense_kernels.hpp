@@ -532,11 +532,12 @@ struct unitary_plan {
       }
     }
   }
-  // At AVX-512, an 8x8 matrix with a target among the amplitudes one register holds (the qubits
-  // of `lanes`) and no control there: those targets are lanes (dense_lanes.hpp).
+  // At AVX-512, a 4x4 or 8x8 matrix with a target among the amplitudes one register holds (the
+  // qubits of `lanes`) and no control there: those targets are lanes (dense_lanes.hpp).
   static bool takes_lanes(const dense_matrix& mat, std::uint64_t tmask, std::uint64_t cmask, std::uint64_t lanes,
                           simd_level level) {
-    return level == simd_level::avx512 && mat.dim == 8 && (tmask & lanes) != 0 && (cmask & lanes) == 0;
+    return level == simd_level::avx512 && (mat.dim == 4 || mat.dim == 8) && (tmask & lanes) != 0 &&
+           (cmask & lanes) == 0;
   }
   // A job points into the plan: valid while the plan is neither moved nor destroyed.
   csr_job<S> job(S* a, unsigned n) const {
@@ -576,7 +577,9 @@ void apply_unitary_plan(S* a, unsigned n, const unitary_plan<S>& plan, std::uint
     if (plan.lane_path) {
       const subspace bases(n, cmask | (tmask & ~std::uint64_t{7}), cvalue);
       const auto chunks = [&](auto&& g) { for_each_chunk(bases, ex, 8, g); };
-      return lane_mix<S, double, 8>(a, *plan.m, std::span<const qubit_index>(plan.targets), bases, chunks);
+      const std::span<const qubit_index> targets(plan.targets);
+      if (plan.m->dim == 4) return lane_mix<S, double, 8, 4>(a, *plan.m, targets, bases, chunks);
+      return lane_mix<S, double, 8>(a, *plan.m, targets, bases, chunks);
     }
 #endif
   }
@@ -591,7 +594,10 @@ void apply_unitary_plan(S* a, unsigned n, const unitary_plan<S>& plan, std::uint
         const auto chunks = [&](auto&& g) { for_each_chunk(bases, ex, m.dim, g); };
         const std::span<const qubit_index> targets(plan.targets);
         if constexpr (std::is_same_v<S, std::complex<float>>)
-          if (float_arithmetic<S>(ex)) return lane_mix<S, float, 8>(a, m, targets, bases, chunks);
+          if (float_arithmetic<S>(ex))
+            return m.dim == 4 ? lane_mix<S, float, 8, 4>(a, m, targets, bases, chunks)
+                              : lane_mix<S, float, 8>(a, m, targets, bases, chunks);
+        if (m.dim == 4) return lane_mix<S, double, 4, 4>(a, m, targets, bases, chunks);
         return lane_mix<S, double, 4>(a, m, targets, bases, chunks);
       }
 #endif

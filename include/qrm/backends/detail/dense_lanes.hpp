@@ -155,13 +155,14 @@ __attribute__((target("avx512f"))) void lane_mix_avx512(const lane_mix_job<A>& j
 // log2(N) fixed; no control below log2(N)), N amplitudes in values of type A per 512-bit register,
 // the targets below log2(N) as lanes; `chunks(g)` calls g(k0, k1) over s. Compiled for Dim x Dim
 // matrices, Dim 8 (fused blocks are 8x8 unless a circuit has fewer qubits to fuse; real double
-// states: N 8) or 2 (a 1-qubit gate on qubit 0 or 1 of complex<float> in double arithmetic), with
+// states: N 8), 4 (2-qubit blocks: gathered, a 4x4 with a target on qubit 1 took 3.3x its time on
+// high targets) or 2 (a 1-qubit gate on qubit 0 or 1 of complex<float> in double arithmetic), with
 // fixed trip counts and permutations: with run-time ones the inputs stayed in memory and the form
 // lost to the gathered bases.
 template <class S, class A, unsigned N, unsigned Dim = 8, class Chunks>
 void lane_mix(S* a, const dense_matrix& m, std::span<const qubit_index> targets, const subspace& s, Chunks&& chunks) {
   constexpr unsigned C = values_per_amplitude<S>;
-  static_assert(C * N * sizeof(A) == 64 && (Dim == 2 || Dim == 8));
+  static_assert(C * N * sizeof(A) == 64 && (Dim == 2 || Dim == 4 || Dim == 8));
   constexpr unsigned lane_bits = std::countr_zero(N);
   std::array<qubit_index, 8> low{}, high{};
   std::array<unsigned, 8> low_at{}, high_at{};  // the matrix index bit of each
@@ -215,17 +216,18 @@ void lane_mix(S* a, const dense_matrix& m, std::span<const qubit_index> targets,
       case 2: return lane_mix_avx512<S, A, N, Dim, 2>(job, s, k0, k1);
       default: break;
     }
-    if constexpr (Dim == 8)
+    if constexpr (Dim >= 4)
       if (low_mask == 3) return lane_mix_avx512<S, A, N, Dim, 3>(job, s, k0, k1);
-    if constexpr (N == 8 && Dim == 8) {
+    if constexpr (N == 8 && Dim >= 4) {
       switch (low_mask) {
         case 4: return lane_mix_avx512<S, A, N, Dim, 4>(job, s, k0, k1);
         case 5: return lane_mix_avx512<S, A, N, Dim, 5>(job, s, k0, k1);
         case 6: return lane_mix_avx512<S, A, N, Dim, 6>(job, s, k0, k1);
-        case 7: return lane_mix_avx512<S, A, N, Dim, 7>(job, s, k0, k1);
         default: break;
       }
     }
+    if constexpr (N == 8 && Dim == 8)
+      if (low_mask == 7) return lane_mix_avx512<S, A, N, Dim, 7>(job, s, k0, k1);
     throw std::logic_error("lane_mix: no target among the lanes");
   });
 }
