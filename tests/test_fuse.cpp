@@ -667,7 +667,8 @@ TEST_CASE("a fused block never exceeds its width, and whatever passes through is
     }
     CHECK(by_width == rep.fused_blocks);
     if (k >= 2) CHECK(rep.fused_blocks > 0);
-    // Every output op is either an input op, unchanged, or a controls-free fused block.
+    // Every output op is either an input op, unchanged, or written for a fused block: a matrix or
+    // gate whose controls (qubits the block never flips) lie on qubits 3 and above.
     std::size_t unchanged = 0;
     for (const qrm::op::any& o : f.ops()) {
       if (std::any_of(p.ops().begin(), p.ops().end(), [&](const qrm::op::any& i) { return same_op(i, o); })) {
@@ -676,9 +677,12 @@ TEST_CASE("a fused block never exceeds its width, and whatever passes through is
       }
       CHECK(qrm::op_qubits(o).size() <= k);
       CHECK((o.index() == 0 || o.index() == 1));
-      qrm::visit_op(o, [](const auto& x) { CHECK(x.controls.empty()); });
+      qrm::visit_op(o, [](const auto& x) {
+        for (const control& c : x.controls) CHECK(c.qubit >= 3);
+      });
     }
-    CHECK(unchanged + rep.fused_blocks == f.size());
+    CHECK(f.size() <= unchanged + rep.block_ops);  // a block's piece may equal an input op
+    CHECK(rep.block_ops >= rep.fused_blocks);
   }
 }
 
@@ -702,6 +706,41 @@ TEST_CASE("H then CNOT fuse into the Bell matrix, multiplied by hand") {
     for (std::size_t j = 0; j < 4; ++j) CHECK(std::abs(u.matrix(i, j) - expected[i][j]) < 1e-15);
   CHECK(rep.fused_blocks == 1);
   CHECK(rep.blocks_by_width[2] == 1);
+}
+
+TEST_CASE("a block that never flips a qubit above 2 is written under it as a control, identities dropped") {
+  // H0, CX(c -> 0), H0 is one block on {0, c}. It never flips c: under c = 0 it is H H = I
+  // (dropped), under c = 1 it is H X H = Z, by hand. With c = 4 that is one controlled Z; with
+  // c = 2 (a qubit inside a cache line, where a control saves no memory) the block stays whole.
+  for (const qubit_index c : {4u, 2u}) {
+    qrm::program p(5);
+    p.apply_gate1(qrm::gate::h(), 0, {});
+    const control cc[] = {{c, true}};
+    p.apply_gate1(qrm::gate::x(), 0, cc);
+    p.apply_gate1(qrm::gate::h(), 0, {});
+    qrm::fusion_report rep;
+    const qrm::program f = qrm::fuse(p, {2}, &rep);
+    CAPTURE(c);
+    REQUIRE(f.size() == 1);
+    CHECK(rep.fused_blocks == 1);
+    CHECK(rep.block_ops == 1);
+    if (c == 4) {
+      REQUIRE(f.ops()[0].index() == 0);
+      const auto& g = *std::get_if<qrm::op::gate1_op>(&f.ops()[0]);
+      CHECK(g.target == 0);
+      REQUIRE(g.controls.size() == 1);
+      CHECK(g.controls[0].qubit == 4);
+      CHECK(g.controls[0].value);
+      const double z[2][2] = {{1, 0}, {0, -1}};
+      for (std::size_t i = 0; i < 2; ++i)
+        for (std::size_t j = 0; j < 2; ++j) CHECK(std::abs(g.gate.m[i][j] - z[i][j]) < 1e-15);
+    } else {
+      REQUIRE(f.ops()[0].index() == 1);
+      const auto& u = *std::get_if<qrm::op::unitary_op>(&f.ops()[0]);
+      CHECK(u.targets == std::vector<qubit_index>{0, 2});
+      CHECK(u.controls.empty());
+    }
+  }
 }
 
 TEST_CASE("a gate that would widen its blocks past the limit closes the smaller ones and joins the rest") {

@@ -18,7 +18,8 @@
 // controls unless one block already holds all their qubits: alone they visit a quarter of the
 // state or less) close the blocks they touch and pass through unchanged. A block holding a single op is written unchanged (its kernel may
 // be cheaper than a dense matrix's: X is a swap, a controlled gate visits only its subspace);
-// a block of single-qubit gates on one qubit becomes one gate1.
+// a block of single-qubit gates on one qubit becomes one gate1; a block that never flips some
+// of its qubits may be written as smaller matrices under them as controls (detail::block_ops).
 //
 // Which width pays depends on the circuit: a fused block of 6 qubits whose rows hold two
 // non-zeros (the decomposed walk: permutations and rotations) costs the dense backend about 2.5
@@ -51,7 +52,8 @@ struct fusion_report {
   unsigned max_qubits = 0;  // the widest block allowed (fuse_cheapest: the width it chose)
   double estimated_passes = 0;  // of the fused program (see estimated_passes)
   std::size_t ops_in = 0, ops_out = 0;
-  std::size_t fused_blocks = 0;  // ops written as a product of two or more ops
+  std::size_t fused_blocks = 0;  // products of two or more ops
+  std::size_t block_ops = 0;     // ops written for them (more where a block splits by its controls: detail::block_ops)
   std::size_t passed_through = 0;  // ops that could not join a block
   std::vector<std::size_t> blocks_by_width;  // [k]: fused blocks on k qubits
 };
@@ -165,32 +167,98 @@ inline std::size_t control_count(const op::any& o) {
 // the last-level cache) and the random suite (24 qubits, from memory) at widths 2 to 6. Rough
 // (single ops off by up to 2x), but it picks the fastest width of both (bench/RESULTS.md).
 template <int = 0>
-double estimated_passes(const program& p) {
+double estimated_passes(const op::any& o) {
   const auto under_controls = [](std::size_t controls) {
     return std::max(std::ldexp(1.0, -static_cast<int>(std::min<std::size_t>(controls, 3))), 0.125);
   };
-  double passes = 0;
-  for (const op::any& o : p.ops()) {
-    if (const auto* g = std::get_if<op::gate1_op>(&o)) {
-      passes += under_controls(g->controls.size());
-    } else if (const auto* u = std::get_if<op::unitary_op>(&o)) {
-      const std::size_t d = u->matrix.dim;
-      std::size_t w = 0;
-      for (std::size_t r = 0; r < d; ++r) {
-        std::size_t row = 0;
-        for (std::size_t c = 0; c < d; ++c) row += u->matrix(r, c) != complex{};
-        w = std::max(w, row);
-      }
-      const auto dd = static_cast<double>(d), dw = static_cast<double>(w);
-      double cost = d <= 4 ? 1.0 : d <= 16 && 2 * w > d ? 0.4 + 0.1 * dd : std::max(1.0, 0.4 + 0.03 * dd + 0.28 * dw);
-      if (std::any_of(u->targets.begin(), u->targets.end(), [](qubit_index t) { return t < 3; })) cost *= 2;
-      passes += cost * under_controls(u->controls.size());
-    } else {
-      passes += 1;
+  if (const auto* g = std::get_if<op::gate1_op>(&o)) return under_controls(g->controls.size());
+  if (const auto* u = std::get_if<op::unitary_op>(&o)) {
+    const std::size_t d = u->matrix.dim;
+    std::size_t w = 0;
+    for (std::size_t r = 0; r < d; ++r) {
+      std::size_t row = 0;
+      for (std::size_t c = 0; c < d; ++c) row += u->matrix(r, c) != complex{};
+      w = std::max(w, row);
     }
+    const auto dd = static_cast<double>(d), dw = static_cast<double>(w);
+    double cost = d <= 4 ? 1.0 : d <= 16 && 2 * w > d ? 0.4 + 0.1 * dd : std::max(1.0, 0.4 + 0.03 * dd + 0.28 * dw);
+    if (std::any_of(u->targets.begin(), u->targets.end(), [](qubit_index t) { return t < 3; })) cost *= 2;
+    return cost * under_controls(u->controls.size());
   }
+  return 1;
+}
+template <int = 0>
+double estimated_passes(const program& p) {
+  double passes = 0;
+  for (const op::any& o : p.ops()) passes += estimated_passes(o);
   return passes;
 }
+
+namespace detail {
+// The ops a fused block m on `qubits` (sorted) is written as. Qubits the product never flips (no
+// non-zero between a row and a column that differ there: a CX's control, a qubit that only
+// diagonal gates touched) may become controls instead: each of their values gets its own smaller
+// matrix on the other qubits, applied under that value, identities (to the rounding of the
+// `folded` products, as in drop_rounding_residue: H H) dropped. That halves the
+// arithmetic per such qubit, and a control need not lie in the dense backend's chunk where a
+// target must (backends/detail/dense_blocked.hpp): the random suite fused at width 3 has 42 such
+// qubits in its 73 blocks; written whole, its fused program made 15 chunked runs at 17 qubits a
+// chunk against the unfused program's 12, split 13, and ran 0.86-0.95x as long (complex<float>,
+// 24 qubits, bench/RESULTS.md). Only qubits 3 and above: a control below that splits no cache line,
+// so each value's op would cost the memory of a whole pass. Split when estimated_passes rates the
+// pieces cheaper than the block and they are no more ops than went into it.
+template <int = 0>
+inline std::vector<op::any> block_ops(dense_matrix m, const std::vector<qubit_index>& qubits, std::size_t folded) {
+  const double tolerance = 8 * std::numeric_limits<double>::epsilon() * static_cast<double>(folded);
+  std::vector<std::size_t> moved, fixed;  // local bits
+  for (std::size_t j = 0; j < qubits.size(); ++j) {
+    const std::size_t bit = std::size_t{1} << j;
+    bool flips = false;
+    for (std::size_t r = 0; r < m.dim && !flips; ++r)
+      for (std::size_t c = 0; c < m.dim && !flips; ++c) flips = ((r ^ c) & bit) != 0 && m(r, c) != complex{};
+    (flips || qubits[j] < 3 ? moved : fixed).push_back(j);
+  }
+  std::vector<op::any> whole;
+  whole.emplace_back(op::unitary_op{m, qubits, {}});
+  if (fixed.empty() || moved.empty()) return whole;
+  std::vector<qubit_index> targets;
+  for (std::size_t j : moved) targets.push_back(qubits[j]);
+  const std::size_t sub_dim = std::size_t{1} << moved.size();
+  std::vector<op::any> pieces;
+  for (std::size_t v = 0; v < (std::size_t{1} << fixed.size()); ++v) {
+    std::size_t base = 0;
+    std::vector<control> cs;
+    for (std::size_t i = 0; i < fixed.size(); ++i) {
+      const bool one = ((v >> i) & 1u) != 0;
+      if (one) base |= std::size_t{1} << fixed[i];
+      cs.push_back({qubits[fixed[i]], one});
+    }
+    const auto index = [&](std::size_t local) {
+      std::size_t at = base;
+      for (std::size_t i = 0; i < moved.size(); ++i)
+        if ((local >> i) & 1u) at |= std::size_t{1} << moved[i];
+      return at;
+    };
+    dense_matrix sub(sub_dim);
+    bool identity = true;
+    for (std::size_t r = 0; r < sub_dim; ++r)
+      for (std::size_t c = 0; c < sub_dim; ++c) {
+        sub(r, c) = m(index(r), index(c));
+        const complex off = sub(r, c) - complex(r == c ? 1.0 : 0.0);
+        identity = identity && std::abs(off.real()) <= tolerance && std::abs(off.imag()) <= tolerance;
+      }
+    if (identity) continue;
+    if (sub_dim == 2)
+      pieces.emplace_back(op::gate1_op{gate::u(sub(0, 0), sub(0, 1), sub(1, 0), sub(1, 1)), targets[0], cs});
+    else
+      pieces.emplace_back(op::unitary_op{std::move(sub), targets, cs});
+  }
+  double split = 0;
+  for (const op::any& o : pieces) split += estimated_passes(o);
+  return split < estimated_passes(whole[0]) && pieces.size() <= folded ? pieces : whole;
+}
+
+}  // namespace detail
 
 // fuse(p, options, report): p with runs of small gates multiplied into dense unitary ops on at
 // most options.max_qubits qubits (see the top of this header).
@@ -229,10 +297,15 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
       }
       detail::drop_rounding_residue(m, blk.ops.size());
       out.enter_layer(p.layer_of(blk.ops[0]));
-      if (blk.qubits.size() == 1)
+      if (blk.qubits.size() == 1) {
         out.push(op::gate1_op{gate::u(m(0, 0), m(0, 1), m(1, 0), m(1, 1)), blk.qubits[0], {}});
-      else
-        out.push(op::unitary_op{std::move(m), blk.qubits, {}});
+        ++rep.block_ops;
+      } else {
+        for (op::any& o : detail::block_ops(std::move(m), blk.qubits, blk.ops.size())) {
+          out.push(std::move(o));
+          ++rep.block_ops;
+        }
+      }
       ++rep.fused_blocks;
       ++rep.blocks_by_width[blk.qubits.size()];
     }
