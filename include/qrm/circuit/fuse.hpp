@@ -187,6 +187,7 @@ double estimated_passes(const op::any& o) {
   }
   return 1;
 }
+// ... and summed over a program's ops.
 template <int = 0>
 double estimated_passes(const program& p) {
   double passes = 0;

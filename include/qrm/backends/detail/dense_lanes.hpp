@@ -155,7 +155,7 @@ __attribute__((target("avx512f"))) void lane_mix_avx512(const lane_mix_job<A>& j
 // log2(N) fixed; no control below log2(N)), N amplitudes in values of type A per 512-bit register,
 // the targets below log2(N) as lanes; `chunks(g)` calls g(k0, k1) over s. Compiled for Dim x Dim
 // matrices, Dim 8 (fused blocks are 8x8 unless a circuit has fewer qubits to fuse; real double
-// states: N 8), 4 (2-qubit blocks: gathered, a 4x4 with a target on qubit 1 took 3.3x its time on
+// states: N 8), 4 (2-qubit blocks: gathered, a 4x4 with a target on qubit 1 took 3.4x its time on
 // high targets) or 2 (a 1-qubit gate on qubit 0 or 1 of complex<float> in double arithmetic), with
 // fixed trip counts and permutations: with run-time ones the inputs stayed in memory and the form
 // lost to the gathered bases.
