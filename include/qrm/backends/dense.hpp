@@ -180,8 +180,9 @@ class state_vector {
                                op.cond.mask, op.cond.value, ex_);
   }
 
-  // Applies ops in order (qrm::run calls this): the state of applying them one by one, to
-  // rounding, with runs of ops that fit a chunk of dense_options::chunk_bytes applied chunk by chunk.
+  // Applies ops (qrm::run calls this): the state of applying them one by one in order, to
+  // rounding, with runs of ops that fit a chunk of dense_options::chunk_bytes applied chunk by
+  // chunk (commuting ops possibly reordered to fill a run: detail::plan_runs).
   void run_ops(std::span<const op::any> ops) {
     const std::uint64_t amplitudes = chunk_bytes_ / sizeof(Scalar);
     const unsigned m = amplitudes ? static_cast<unsigned>(std::bit_width(amplitudes)) - 1 : 0;  // qubits of a chunk
@@ -193,12 +194,14 @@ class state_vector {
     const auto ck = checks();
     detail::validating_sink<decltype(ck)> validator{ck};
     for (const op::any& o : ops) emit_op(o, validator);
-    for (const detail::op_run& r : detail::plan_runs(ops, n_, m, detail::chunk_low_qubits<Scalar>(), chunk_min_passes_,
-                                                     detail::memory_bound_dim<Scalar>(ex_))) {
+    const detail::run_plan plan = detail::plan_runs(ops, n_, m, detail::chunk_low_qubits<Scalar>(), chunk_min_passes_,
+                                                    detail::memory_bound_dim<Scalar>(ex_));
+    const std::span<const std::size_t> order(plan.order);
+    for (const detail::op_run& r : plan.runs) {
       if (r.local == 0)
-        emit_op(ops[r.first], *this);
+        emit_op(ops[order[r.first]], *this);
       else
-        detail::run_in_chunks(amps_.data(), n_, ops.subspan(r.first, r.last - r.first), r.local, ex_);
+        detail::run_in_chunks(amps_.data(), n_, ops, order.subspan(r.first, r.last - r.first), r.local, ex_);
     }
   }
   void set_chunk_bytes(std::uint64_t bytes) { chunk_bytes_ = bytes; }

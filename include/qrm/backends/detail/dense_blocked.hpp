@@ -10,9 +10,10 @@
 // is skipped, or applied without that control), and the chunk is written back. Chunks are
 // independent, so they are also the unit of parallel work.
 //
-// Runs are formed greedily in program order: an op joins the current run while the union of the
-// run's moving qubits stays within m. A run whose ops would make fewer than min_chunked_passes
-// passes over memory (see memory_passes) is applied op by op to the whole state as usual.
+// Runs are formed greedily: an op joins the current run while the union of the run's moving
+// qubits stays within m, and an op further on may join it ahead of ops it commutes with (see
+// plan_runs). A run whose ops would make fewer than min_chunked_passes passes over memory (see
+// memory_passes) is applied op by op to the whole state as usual.
 #pragma once
 
 #include <algorithm>
@@ -57,17 +58,33 @@ std::uint64_t moving_mask(const op::any& o) {
   return m;
 }
 
+// Control qubits of an op as a mask.
+template <int = 0>
+std::uint64_t control_mask(const op::any& o) {
+  std::uint64_t m = 0;
+  visit_op(o, [&m](const auto& x) {
+    for (const control& c : x.controls) m |= c.qubit < 64 ? std::uint64_t{1} << c.qubit : 0;
+  });
+  return m;
+}
+
 // The lowest qubits every chunk keeps: 128 contiguous bytes, whole cache lines per copied run.
 template <class S>
 constexpr unsigned chunk_low_qubits() {
   return static_cast<unsigned>(std::countr_zero(128 / sizeof(S)));
 }
 
-// Ops [first, last) run chunk by chunk over the qubits `local` (a mask of m qubits), or on the whole
-// state when local == 0.
+// Ops order[first, last) run chunk by chunk over the qubits `local` (a mask of m qubits), or on the
+// whole state when local == 0.
 struct op_run {
   std::size_t first = 0, last = 0;
   std::uint64_t local = 0;
+};
+
+// The runs of a program, and the order its ops are applied in (indices into the program).
+struct run_plan {
+  std::vector<std::size_t> order;
+  std::vector<op_run> runs;
 };
 
 // Whether an op's kernel waits on memory, for matrices up to `widest_memory_bound` rows (see
@@ -120,43 +137,70 @@ double memory_passes(const op::any& o, unsigned low, std::size_t widest_memory_b
 // noise of 2, and the unfused ones within the noise of 6 at both.
 inline constexpr double min_chunked_passes = 2;
 
+// How many ops a run looks past (ops it cannot take) for further ops that commute with them.
+inline constexpr std::size_t run_lookahead = 256;
+
 // The runs of `ops` for chunks of m qubits in an n-qubit state (see the top of this header). Every
 // chunk holds the lowest `low` qubits, so a copied chunk moves runs of 2^low contiguous amplitudes
 // (one amplitude at a time would cost more than the ops it saves). A run is chunked when its
 // ops' memory_passes (matrices up to widest_memory_bound rows waiting on memory) add up to min_passes.
+//
+// A run takes the first op left and then every later op that fits its m qubits and commutes with
+// each op passed over so far: two ops commute when neither moves a qubit the other touches (a
+// qubit that is only a control of both is diagonal in both). So the ops are applied in another
+// order, which gives the same state to rounding. On the 24-qubit random suite (300 gates, chunks
+// of 2^17 amplitudes) in program order: 12 runs unfused and 13 fused; with the look-ahead 9 and 11.
 template <int = 0>
-std::vector<op_run> plan_runs(std::span<const op::any> ops, unsigned n, unsigned m, unsigned low = 0,
-                              double min_passes = min_chunked_passes, std::size_t widest_memory_bound = 4) {
-  std::vector<op_run> runs;
+run_plan plan_runs(std::span<const op::any> ops, unsigned n, unsigned m, unsigned low = 0,
+                   double min_passes = min_chunked_passes, std::size_t widest_memory_bound = 4) {
+  run_plan plan;
+  plan.order.reserve(ops.size());
+  std::vector<std::uint64_t> moving(ops.size()), touched(ops.size());
+  for (std::size_t i = 0; i < ops.size(); ++i) {
+    moving[i] = moving_mask(ops[i]);
+    touched[i] = moving[i] | control_mask(ops[i]);
+  }
   const std::uint64_t reserved = (std::uint64_t{1} << std::min(low, m)) - 1;
-  std::uint64_t cur = reserved;
-  std::size_t start = 0;
-  auto close = [&](std::size_t end) {
-    if (end == start) return;
+  const auto fits = [&](std::uint64_t qubits) { return std::popcount(qubits) <= static_cast<int>(m); };
+  std::vector<std::size_t> left(ops.size()), passed;  // ops not yet in a run, in program order
+  for (std::size_t i = 0; i < ops.size(); ++i) left[i] = i;
+  std::size_t head = 0;
+  while (head < left.size()) {
+    const std::size_t first = plan.order.size();
+    if (!fits(moving[left[head]] | reserved)) {  // too wide for any chunk: alone
+      plan.runs.push_back({first, first + 1, 0});
+      plan.order.push_back(left[head++]);
+      continue;
+    }
+    std::uint64_t cur = reserved, passed_moving = 0, passed_touched = 0;
+    passed.clear();
+    std::size_t k = head;
+    for (; k < left.size() && passed.size() < run_lookahead; ++k) {
+      const std::size_t i = left[k];
+      if (fits(cur | moving[i]) && (moving[i] & passed_touched) == 0 && (touched[i] & passed_moving) == 0) {
+        cur |= moving[i];
+        plan.order.push_back(i);
+      } else {
+        passed_moving |= moving[i];
+        passed_touched |= touched[i];
+        passed.push_back(i);
+      }
+    }
+    passed.insert(passed.end(), left.begin() + static_cast<std::ptrdiff_t>(k), left.end());
+    left.swap(passed);
+    head = 0;
+    const std::size_t last = plan.order.size();
     double passes = 0;
-    for (std::size_t i = start; i < end; ++i) passes += memory_passes(ops[i], low, widest_memory_bound);
+    for (std::size_t j = first; j < last; ++j) passes += memory_passes(ops[plan.order[j]], low, widest_memory_bound);
     if (passes < min_passes) {
-      for (std::size_t i = start; i < end; ++i) runs.push_back({i, i + 1, 0});
+      for (std::size_t j = first; j < last; ++j) plan.runs.push_back({j, j + 1, 0});
     } else {
       // Pad with the lowest free qubits: longer contiguous runs to copy, and in place when L = {0..m-1}.
       for (unsigned q = 0; q < n && std::popcount(cur) < static_cast<int>(m); ++q) cur |= std::uint64_t{1} << q;
-      runs.push_back({start, end, cur});
+      plan.runs.push_back({first, last, cur});
     }
-    start = end;
-    cur = reserved;
-  };
-  for (std::size_t i = 0; i < ops.size(); ++i) {
-    const std::uint64_t mv = moving_mask(ops[i]);
-    if (std::popcount(cur | mv) > static_cast<int>(m)) close(i);
-    if (std::popcount(mv | reserved) > static_cast<int>(m)) {
-      runs.push_back({i, i + 1, 0});
-      start = i + 1;
-      continue;
-    }
-    cur |= mv;
   }
-  close(ops.size());
-  return runs;
+  return plan;
 }
 
 // A gate sink that only checks operands (op_checks), so ops are validated on the whole state
@@ -283,9 +327,11 @@ inline void prefetch_lines(const S* p, std::uint64_t count, bool for_write) {
   }
 }
 
-// Applies ops (validated) chunk by chunk over the qubits of `local` (m of the state's n).
+// Applies ops[which[0]], ops[which[1]], ... (validated) chunk by chunk over the qubits of `local`
+// (m of the state's n).
 template <class S>
-void run_in_chunks(S* a, unsigned n, std::span<const op::any> ops, std::uint64_t local, const exec_policy& ex) {
+void run_in_chunks(S* a, unsigned n, std::span<const op::any> ops, std::span<const std::size_t> which,
+                   std::uint64_t local, const exec_policy& ex) {
   const unsigned m = static_cast<unsigned>(std::popcount(local));
   std::array<signed char, 64> local_of;
   local_of.fill(-1);
@@ -310,9 +356,9 @@ void run_in_chunks(S* a, unsigned n, std::span<const op::any> ops, std::uint64_t
   // Every chunk applies a matrix with the same local targets and controls: plan each once (see
   // unitary_plan).
   std::vector<unitary_plan<S>> plans;
-  std::vector<const unitary_plan<S>*> plan_of(ops.size(), nullptr);
-  for (const op::any& o : ops)
-    if (const auto* u = std::get_if<op::unitary_op>(&o)) {
+  std::vector<const unitary_plan<S>*> plan_of(which.size(), nullptr);
+  for (const std::size_t i : which)
+    if (const auto* u = std::get_if<op::unitary_op>(&ops[i])) {
       std::array<qubit_index, 64> lt;
       for (std::size_t j = 0; j < u->targets.size(); ++j) lt[j] = static_cast<qubit_index>(local_of[u->targets[j]]);
       std::uint64_t cmask = 0;  // of the controls inside the chunk (the others select chunks)
@@ -320,8 +366,8 @@ void run_in_chunks(S* a, unsigned n, std::span<const op::any> ops, std::uint64_t
         if (local_of[c.qubit] >= 0) cmask |= std::uint64_t{1} << local_of[c.qubit];
       plans.emplace_back(u->matrix, std::span<const qubit_index>(lt.data(), u->targets.size()), cmask, one);
     }
-  for (std::size_t i = 0, next = 0; i < ops.size(); ++i)
-    if (std::holds_alternative<op::unitary_op>(ops[i])) plan_of[i] = &plans[next++];
+  for (std::size_t j = 0, next = 0; j < which.size(); ++j)
+    if (std::holds_alternative<op::unitary_op>(ops[which[j]])) plan_of[j] = &plans[next++];
   const std::uint64_t chunks = std::uint64_t{1} << (n - m);
   auto do_chunk = [&](std::uint64_t c) {
     const std::uint64_t base = deposit(c, outside);
@@ -336,9 +382,9 @@ void run_in_chunks(S* a, unsigned n, std::span<const op::any> ops, std::uint64_t
       }
     }
     chunk_sink<S> sink{chunk, m, &local_of, base, one};
-    for (std::size_t i = 0; i < ops.size(); ++i) {
-      sink.plan = plan_of[i];
-      emit_op(ops[i], sink);
+    for (std::size_t j = 0; j < which.size(); ++j) {
+      sink.plan = plan_of[j];
+      emit_op(ops[which[j]], sink);
     }
     if (!in_place)
       for (std::uint64_t r = 0; r < runs; ++r) {
