@@ -162,7 +162,7 @@ run_plan plan_runs(std::span<const op::any> ops, unsigned n, unsigned m, unsigne
   }
   const std::uint64_t reserved = (std::uint64_t{1} << std::min(low, m)) - 1;
   const auto fits = [&](std::uint64_t qubits) { return std::popcount(qubits) <= static_cast<int>(m); };
-  std::vector<std::size_t> left(ops.size()), passed;  // ops not yet in a run, in program order
+  std::vector<std::size_t> left(ops.size()), passed;  // left[head, end): ops not yet in a run, in program order
   for (std::size_t i = 0; i < ops.size(); ++i) left[i] = i;
   std::size_t head = 0;
   while (head < left.size()) {
@@ -186,9 +186,9 @@ run_plan plan_runs(std::span<const op::any> ops, unsigned n, unsigned m, unsigne
         passed.push_back(i);
       }
     }
-    passed.insert(passed.end(), left.begin() + static_cast<std::ptrdiff_t>(k), left.end());
-    left.swap(passed);
-    head = 0;
+    // The passed ops, in program order, go back just before the ops not scanned.
+    head = k - passed.size();
+    std::copy(passed.begin(), passed.end(), left.begin() + static_cast<std::ptrdiff_t>(head));
     const std::size_t last = plan.order.size();
     double passes = 0;
     for (std::size_t j = first; j < last; ++j) passes += memory_passes(ops[plan.order[j]], low, widest_memory_bound);
