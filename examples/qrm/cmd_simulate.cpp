@@ -160,7 +160,7 @@ flag_table simulate_flags() {
       {"backend", "dense|compact", "dense",
        "the dense state vector, or the compact backend (only the nonzero amplitudes; one thread)", run},
       {"fuse", "auto|K|on|off", "auto",
-       "multiply runs of gates on at most K qubits (1..6) into one matrix; auto (or on): the K from 3 to 6 whose "
+       "multiply runs of gates on at most K qubits (1..6) into one matrix; auto (or on): the K from 2 to 6 whose "
        "fused circuit qrm::estimated_passes rates cheapest",
        run},
       {"threads", "T", "0", "threads of the dense backend (0: every core)", run},

@@ -24,7 +24,7 @@
 // Which width pays depends on the circuit: a fused block of 6 qubits whose rows hold two
 // non-zeros (the decomposed walk: permutations and rotations) costs the dense backend about 2.5
 // passes and replaces ~60 gates; a dense one (random rotations) costs ~20. fuse_cheapest(p)
-// fuses at every width from 3 to 6 and keeps the program estimated_passes rates cheapest.
+// fuses at every width from 2 to 6 and keeps the program estimated_passes rates cheapest.
 #pragma once
 
 #include <algorithm>
@@ -160,12 +160,15 @@ inline std::size_t control_count(const op::any& o) {
 // a 1-qubit gate). A gate under c controls visits 2^-c of the state (at least 1/8: below that
 // its runs are too short to save whole cache lines). A k-qubit matrix op costs by its rows'
 // widest count of non-zeros w (the fixed-width forms) and its dimension d = 2^k (the columns
-// each base loads): max(1, 0.4 + 0.03 d + 0.28 w), or 0.4 + 0.1 d when it is dense and d <= 16
+// each base loads): max(1, 0.4 + 0.03 d + 0.28 w), or 0.3 d - 0.1 when it is dense and 4 < d <= 16
 // (the unrolled dense form), twice that with a target on qubits 0-2 (bases gathered instead of
 // neighbours). Other ops: one pass. Fitted to ops timed one by one (complex<float>, float
 // arithmetic, one thread, AMD EPYC VM, 2026-12-05): the fused decomposed walk (21 qubits, in
-// the last-level cache) and the random suite (24 qubits, from memory) at widths 2 to 6. Rough
-// (single ops off by up to 2x), but it picks the fastest width of both (bench/RESULTS.md).
+// the last-level cache) and the random suite (24 qubits, from memory) at widths 2 to 6; the dense
+// form to the same matrices in a cache-sized state, where the dense backend's chunked runs apply
+// them (an 8- and 16-row real dense block took 1.9-3.2 and 4.7-6.8 times a 1-qubit gate's time;
+// from memory 1.6 and 3.7-4.1; AVX2 AMD EPYC VM, 2026-12-06). Rough (single ops off by up to
+// 2x), but it picks the fastest width of both (bench/RESULTS.md).
 template <int = 0>
 double estimated_passes(const op::any& o) {
   const auto under_controls = [](std::size_t controls) {
@@ -181,7 +184,7 @@ double estimated_passes(const op::any& o) {
       w = std::max(w, row);
     }
     const auto dd = static_cast<double>(d), dw = static_cast<double>(w);
-    double cost = d <= 4 ? 1.0 : d <= 16 && 2 * w > d ? 0.4 + 0.1 * dd : std::max(1.0, 0.4 + 0.03 * dd + 0.28 * dw);
+    double cost = d <= 4 ? 1.0 : d <= 16 && 2 * w > d ? 0.3 * dd - 0.1 : std::max(1.0, 0.4 + 0.03 * dd + 0.28 * dw);
     if (std::any_of(u->targets.begin(), u->targets.end(), [](qubit_index t) { return t < 3; })) cost *= 2;
     return cost * under_controls(u->controls.size());
   }
@@ -411,18 +414,17 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
   return out;
 }
 
-// fuse_cheapest(p, report): fuse() at the width from 3 to 6 (merge_disjoint on) whose program
-// estimated_passes rates cheapest, the narrowest on a tie. Narrower widths are not candidates:
-// at 2 the estimate undercounts the many cheap controlled gates a circuit keeps (the random
-// suite: rated below width 3, its ops timed one by one took 1.17x as long).
+// fuse_cheapest(p, report): fuse() at the width from 2 to 6 (merge_disjoint on) whose program
+// estimated_passes rates cheapest, the narrowest on a tie. Width 1 only merges gates on one
+// qubit, which width 2 does too.
 template <int = 0>
 program fuse_cheapest(const program& p, fusion_report* report = nullptr) {
   program best;
   fusion_report best_report;
-  for (unsigned k = 3; k <= 6; ++k) {
+  for (unsigned k = 2; k <= 6; ++k) {
     fusion_report rep;
     program f = fuse(p, {k}, &rep);
-    if (k == 3 || rep.estimated_passes < best_report.estimated_passes) {
+    if (k == 2 || rep.estimated_passes < best_report.estimated_passes) {
       best = std::move(f);
       best_report = std::move(rep);
     }
