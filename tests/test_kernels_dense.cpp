@@ -24,6 +24,28 @@ TEST_CASE_TEMPLATE_INVOKE(norm_drift, QRM_DENSE_BACKENDS);
 TEST_CASE_TEMPLATE_INVOKE(thread_determinism, qrm::state_vector<double>, qrm::state_vector<std::complex<double>>);
 TEST_CASE_TEMPLATE_INVOKE(chunked_subspaces, qrm::state_vector<double>, qrm::state_vector<std::complex<float>>);
 
+// A 1-qubit gate on a state of 12 or more free qubits may run on the matrix kernels instead of
+// the pair loop (kernel_gate1: complex<float> above target 0, complex<double> from target 4), a
+// path the 4-qubit placements above never take: every target of 14 qubits, without controls and
+// under one or two (either value), real and complex gates, against the reference.
+TEST_CASE_TEMPLATE("single-qubit gates on 14 qubits match the reference at every target", B, QRM_DENSE_BACKENDS) {
+  using T = backend_traits<B>;
+  qrm::rng g(12);
+  const std::size_t n = 14;
+  std::vector<qrm::gate1> gates = {qrm::gate::h(), qrm::gate::ry(0.7), random_gate1_nonunitary(g, false)};
+  if constexpr (T::is_complex) gates.push_back(random_gate1_nonunitary(g, true));
+  for (qubit_index t = 0; t < n; ++t) {
+    const auto a = static_cast<qubit_index>((t + 3) % n), b = static_cast<qubit_index>((t + 9) % n);
+    const std::vector<std::vector<control>> control_sets = {{}, {{a, true}}, {{a, false}, {b, true}}};
+    for (const auto& cs : control_sets)
+      for (const auto& gate : gates) {
+        const double d = compare_with_reference<B>(n, g, [&](auto& s) { s.apply_gate1(gate, t, cs); });
+        INFO("kind " << qrm::gate1_name(gate.kind) << " target " << t << " controls " << cs.size());
+        CHECK(d <= T::tolerance);
+      }
+  }
+}
+
 // X is a byte move (detail/dense_swap.hpp): blocks of 2^t amplitudes narrower than a vector are
 // swapped by one shuffle inside the register, wider ones as whole vectors, at each vector width;
 // controls on the lowest qubits below the target become a lane mask. Every target (blocks of 4

@@ -294,16 +294,22 @@ void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cm
       return lane_mix<S, double, 4, 2>(a, m, target, bases, chunks);
     }
 #endif
-    // Above target 0, the matrix kernel's vectors (floats widened to double, two or four bases
-    // per register) run 1.5-3x faster than the scalar pair loop below (2^22 amplitudes, one
-    // thread); at target 0 (without AVX-512) the pair loop is already one vectorised stream.
-    // Small states keep the loop: the matrix kernel's setup would dominate.
-    if (t >= 1 && n - static_cast<unsigned>(std::popcount(cmask)) >= 12) {
-      const dense_matrix m = dense_matrix::of(g);
-      const qubit_index target[] = {static_cast<qubit_index>(t)};
-      kernel_unitary(a, n, m, target, st, cmask, cvalue, ex);
-      return;
-    }
+  }
+  // Where the matrix kernel's vectors beat the scalar pair loop below. complex<float>: above
+  // target 0, 1.5-3x (floats widened to double, two or four bases per register; 2^22
+  // amplitudes, one thread); at target 0 (without AVX-512) the loop is already one vectorised
+  // stream. complex<double>: from target 4, where the loop takes its prefetching form, 0.38-0.43
+  // against 0.75-0.78 ns per amplitude in a cache-sized state (2^15, as in a chunked run), level
+  // from memory; at target 3 the loop is faster, 0.43 against 0.48 (AVX2 AMD EPYC VM,
+  // 2026-12-06). Small states keep the loop: the matrix kernel's setup would dominate.
+  constexpr unsigned matrix_kernel_from = std::is_same_v<S, std::complex<float>>    ? 1
+                                          : std::is_same_v<S, std::complex<double>> ? 4
+                                                                                    : 64;
+  if (t >= matrix_kernel_from && n - static_cast<unsigned>(std::popcount(cmask)) >= 12) {
+    const dense_matrix m = dense_matrix::of(g);
+    const qubit_index target[] = {static_cast<qubit_index>(t)};
+    kernel_unitary(a, n, m, target, st, cmask, cvalue, ex);
+    return;
   }
   if (g.is_real()) {
     const double m00 = g.m[0][0].real(), m01 = g.m[0][1].real();
