@@ -46,6 +46,97 @@ TEST_CASE_TEMPLATE("single-qubit gates on 14 qubits match the reference at every
   }
 }
 
+// Partners 2^28 bytes apart or more (target 25 of a 26-qubit complex<float> state) take the
+// grouped form of the matrix kernel (detail::aliased_streams), a path no smaller state takes: a
+// complex 2x2 gate on qubit 25 and a 4x4 matrix on (25, 5) with a control above qubit 3 (grouped)
+// or below it (not), in float and double arithmetic, one and two threads, against the matrix
+// applied here at 2^18 random amplitudes and the first and last 2^12 (a whole state's reference
+// took 28 s). Float rounding of values below 4 in a 4-term sum: 1e-5 is 10 times the error
+// expected.
+TEST_CASE("matrices and X on qubits 2^28 bytes apart match the reference") {
+  using cf = std::complex<float>;
+  const unsigned n = 26;
+  REQUIRE(qrm::detail::aliased_streams<cf>(2, std::uint64_t{1} << 25, 0));
+  REQUIRE(qrm::detail::aliased_streams<cf>(4, (std::uint64_t{1} << 25) | 32, std::uint64_t{1} << 12));
+  REQUIRE(!qrm::detail::aliased_streams<cf>(4, (std::uint64_t{1} << 25) | 32, 4));  // a control on qubit 2
+  qrm::rng g(31);
+  std::vector<cf> start(std::size_t{1} << n);
+  for (std::size_t i = 0; i < start.size(); ++i) start[i] = cf(static_cast<float>(i % 1999) / 1000.0f - 1.0f, static_cast<float>(i % 997) / 500.0f - 1.0f);
+  qrm::dense_matrix u2(4);
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = 0; j < 4; ++j) u2(i, j) = std::complex<double>(g.uniform() - 0.5, g.uniform() - 0.5);
+  const qrm::gate1 u1 = random_gate1_nonunitary(g, true);
+  const qrm::dense_matrix m1 = qrm::dense_matrix::of(u1);
+  struct case_t {
+    const char* name;
+    const qrm::dense_matrix* m;
+    std::vector<qubit_index> targets;
+    std::vector<control> controls;
+  };
+  const std::vector<case_t> cases = {{"2x2 on 25", &m1, {25}, {}},
+                                     {"4x4 on (25, 5), control 12", &u2, {25, 5}, {{12, true}}},
+                                     {"4x4 on (25, 5), control 2", &u2, {25, 5}, {{2, false}}}};
+  std::vector<std::uint64_t> sample;
+  for (std::uint64_t i = 0; i < 4096; ++i) sample.push_back(i), sample.push_back(start.size() - 1 - i);
+  for (int i = 0; i < (1 << 18); ++i) sample.push_back(static_cast<std::uint64_t>(g.uniform() * static_cast<double>(start.size())));
+  std::vector<qrm::state_vector<cf>> states;  // one per arithmetic, reused: each costs 512 MiB
+  for (const qrm::float_math math : {qrm::float_math::double_precision, qrm::float_math::single_precision}) {
+    qrm::dense_options o;
+    o.math = math;
+    states.emplace_back(n, o);
+  }
+  for (const case_t& c : cases) {
+    // The amplitude at i after the matrix: row r (i's target bits) of m times the members of i's base.
+    const auto expected = [&](std::uint64_t i) {
+      const auto member = [&](std::size_t r) {
+        std::uint64_t j = i;
+        for (std::size_t b = 0; b < c.targets.size(); ++b)
+          j = ((r >> b) & 1u) ? j | (std::uint64_t{1} << c.targets[b]) : j & ~(std::uint64_t{1} << c.targets[b]);
+        return j;
+      };
+      if (!std::all_of(c.controls.begin(), c.controls.end(), [&](const control& k) { return ((i >> k.qubit) & 1u) == k.value; }))
+        return start[i];
+      std::size_t row = 0;
+      for (std::size_t b = 0; b < c.targets.size(); ++b) row |= ((i >> c.targets[b]) & 1u) << b;
+      std::complex<double> out = 0;
+      for (std::size_t k = 0; k < c.m->dim; ++k) out += (*c.m)(row, k) * std::complex<double>(start[member(k)]);
+      return cf(out);
+    };
+    for (qrm::state_vector<cf>& s : states)
+      for (const unsigned threads : {1u, 2u}) {
+        s.set_threads(threads);
+        s.set_amplitudes(start);
+        if (c.m->dim == 2)
+          s.apply_gate1(u1, c.targets[0], c.controls);
+        else
+          s.apply_unitary(*c.m, c.targets, c.controls);
+        double worst = 0;
+        for (const std::uint64_t i : sample) worst = std::max(worst, static_cast<double>(std::norm(s.amplitudes()[i] - expected(i))));
+        const std::string what = std::string(c.name) + (&s == &states[0] ? ", double" : ", float") +
+                                 " arithmetic, threads " + std::to_string(threads);
+        INFO(what);
+        CHECK(std::sqrt(worst) <= 1e-5);
+      }
+  }
+  // X on qubit 25 (runs 256 MiB apart: detail::swap_runs_masked's grouped form), without
+  // controls, with one above and two inside a cache line (a lane mask): the exact permutation.
+  const std::vector<std::vector<control>> control_sets = {{}, {{12, true}}, {{1, true}, {2, false}}};
+  for (const std::vector<control>& cs : control_sets)
+    for (const unsigned threads : {1u, 2u}) {
+      qrm::state_vector<cf>& s = states[0];
+      s.set_threads(threads);
+      s.set_amplitudes(start);
+      s.apply_gate1(qrm::gate::x(), 25, cs);
+      std::size_t wrong = 0;
+      for (const std::uint64_t i : sample) {
+        const bool on = std::all_of(cs.begin(), cs.end(), [&](const control& k) { return ((i >> k.qubit) & 1u) == k.value; });
+        wrong += s.amplitudes()[i] != (on ? start[i ^ (std::uint64_t{1} << 25)] : start[i]);
+      }
+      INFO("X on 25, controls " << cs.size() << ", threads " << threads);
+      CHECK(wrong == 0);
+    }
+}
+
 // X is a byte move (detail/dense_swap.hpp): blocks of 2^t amplitudes narrower than a vector are
 // swapped by one shuffle inside the register, wider ones as whole vectors, at each vector width;
 // controls on the lowest qubits below the target become a lane mask. Every target (blocks of 4

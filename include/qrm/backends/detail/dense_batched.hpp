@@ -341,6 +341,15 @@ template <class S>
   return run_bytes >= 8192 && run_bytes <= 128 * 1024 ? 2 * run_bytes : 8192;
 }
 
+// Two lines whose addresses differ by a multiple of 2^28 bytes share their set and their
+// linear-address hash (bits 12-27) in the L1 data cache of AMD Zen cores, which holds only one
+// line per hash and set: a kernel that alternates between them misses L1 on every access. A
+// complex<float> 2x2 gate on target 25 of 26 qubits (partners 256 MiB apart) ran at 10 GB/s
+// against 31-47 GB/s on targets 0-24; a plain loop over two float streams 256 or 512 MiB apart
+// the same, 192, 320 or 384 MiB apart 37-41 GB/s. Loading 4 or more vectors of one stream before
+// the other's: 29-35 GB/s (AMD EPYC VM, AVX2, 2026-12-06).
+inline constexpr std::uint64_t aliasing_stride_bytes = std::uint64_t{1} << 28;
+
 // x86-64 under g++ or clang: kernels compiled per ISA (target attributes), chosen at run time.
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define QRM_HAS_CPU_DISPATCH 1
@@ -370,12 +379,25 @@ template <class Vec, class Stored>
     out = __builtin_convertvector(v, Vec);
 }
 
+// acc += i acc_im for N complex numbers as (re, im) lanes: i z swaps each pair and negates the
+// new real part (sign: -1, 1, -1, 1, ...).
+template <unsigned N, class Vec>
+[[gnu::always_inline]] inline void add_i_times(Vec& acc, const Vec& acc_im, const Vec& sign) {
+  if constexpr (N == 2)
+    acc += __builtin_shufflevector(acc_im, acc_im, 1, 0, 3, 2) * sign;
+  else if constexpr (N == 4)
+    acc += __builtin_shufflevector(acc_im, acc_im, 1, 0, 3, 2, 5, 4, 7, 6) * sign;
+  else
+    acc += __builtin_shufflevector(acc_im, acc_im, 1, 0, 3, 2, 5, 4, 7, 6, 9, 8, 11, 10, 13, 12, 15, 14) * sign;
+}
+
 // Applies the job at the bases that are members [k0, k1) of s, N bases per vector (see
 // base_groups), in arithmetic type A (double, or float for complex<float>). A complex product is two sums, A = sum re(m) x and B = sum im(m) x, and
 // out = A + i B, where i B swaps each (re, im) pair and negates the new real part: one vector
 // per column instead of two. Everything it calls is inlined, so each ISA's copy below is
 // self-contained (a helper lambda would be compiled without the caller's ISA).
-template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K = 0, unsigned XorSet = 0>
+template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K = 0, unsigned XorSet = 0,
+          unsigned G = 1>
 [[gnu::always_inline]] inline void csr_range_body(const csr_job<S>& job, const subspace& s, const std::uint64_t* g,
                                                   std::uint64_t k0, std::uint64_t k1) {
   using R = typename scalar_traits<S>::real;
@@ -421,6 +443,37 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
   const std::uint64_t ahead = paired / sizeof(R);
   for (run_cursor runs(s, k0, k1); !runs.done(); runs.next()) {
     const std::uint64_t first = runs.first(), len = runs.length();
+    if constexpr (G > 1) {
+      // G vectors of each column loaded before any other column's, each row's G stored together
+      // (see aliased_streams): runs of G N neighbours, a dense matrix.
+      static_assert(Contiguous && Dim != 0 && K == 0 && XorSet == 0 && Dim * G <= vector_kernel_max_dim);
+      for (std::uint64_t b = first; b < first + len; b += N * G) {
+        for (std::size_t c = 0; c < Dim; ++c) {
+          for (unsigned u = 0; u < G; ++u) {
+            stored v;
+            std::memcpy(&v, p + 2 * (b + u * N + load_off[c]), sizeof v);
+            widen(v, x[c * G + u]);
+          }
+        }
+        for (std::size_t r = 0; r < Dim; ++r) {
+          stored out[G];
+          for (unsigned u = 0; u < G; ++u) {
+            vec acc = {}, acc_im = {};
+            for (std::size_t c = 0; c < Dim; ++c) {
+              acc += dense_re[r * Dim + c] * x[c * G + u];
+              if constexpr (!RealMatrix) acc_im += dense_im[r * Dim + c] * x[c * G + u];
+            }
+            if constexpr (!RealMatrix) add_i_times<N>(acc, acc_im, sign);
+            if constexpr (std::is_same_v<R, A>)
+              out[u] = acc;
+            else
+              out[u] = __builtin_convertvector(acc, stored);
+          }
+          for (unsigned u = 0; u < G; ++u) std::memcpy(p + 2 * (b + u * N + off[r]), &out[u], sizeof out[u]);
+        }
+      }
+      continue;
+    }
     for (std::uint64_t b = first; b < first + len; b += Contiguous ? N : 1) {
       // Each column is its own stream, and streams 2^t apart that jump every 2^t amplitudes
       // defeat the hardware prefetcher (see for_each_pair): fetch each one's line ahead
@@ -476,14 +529,7 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
             if constexpr (!RealMatrix) acc_im += rows_im[e] * x[m.col[e]];
           }
         }
-        if constexpr (!RealMatrix) {
-          if constexpr (N == 2)
-            acc += __builtin_shufflevector(acc_im, acc_im, 1, 0, 3, 2) * sign;
-          else if constexpr (N == 4)
-            acc += __builtin_shufflevector(acc_im, acc_im, 1, 0, 3, 2, 5, 4, 7, 6) * sign;
-          else
-            acc += __builtin_shufflevector(acc_im, acc_im, 1, 0, 3, 2, 5, 4, 7, 6, 9, 8, 11, 10, 13, 12, 15, 14) * sign;
-        }
+        if constexpr (!RealMatrix) add_i_times<N>(acc, acc_im, sign);
         stored out;
         if constexpr (std::is_same_v<R, A>)
           out = acc;
@@ -509,22 +555,25 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
   }
 }
 
-template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K, unsigned XorSet>
+template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K, unsigned XorSet,
+          unsigned G = 1>
 void csr_range_generic(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0,
                        std::uint64_t k1) {
-  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet>(job, s, g, k0, k1);
+  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet, G>(job, s, g, k0, k1);
 }
 
 #ifdef QRM_HAS_CPU_DISPATCH
-template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K, unsigned XorSet>
+template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K, unsigned XorSet,
+          unsigned G = 1>
 __attribute__((target("avx2,fma"))) void csr_range_avx2(const csr_job<S>& job, const subspace& s,
                                                         const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
-  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet>(job, s, g, k0, k1);
+  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet, G>(job, s, g, k0, k1);
 }
-template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K, unsigned XorSet>
+template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K, unsigned XorSet,
+          unsigned G = 1>
 __attribute__((target("avx512f"))) void csr_range_avx512(const csr_job<S>& job, const subspace& s,
                                                          const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
-  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet>(job, s, g, k0, k1);
+  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet, G>(job, s, g, k0, k1);
 }
 template <int = 0>
 inline bool cpu_has_avx2_fma() {
@@ -552,31 +601,32 @@ inline simd_level resolve_simd(simd_level asked) {
 
 // Registers of 512 bits (four bases in double, eight in float) run only at avx512, float
 // arithmetic only at avx2 and above (resolve_simd and the caller see to it).
-template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K, unsigned XorSet>
+template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K, unsigned XorSet,
+          unsigned G = 1>
 void csr_range_isa(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0,
                    std::uint64_t k1) {
   constexpr bool wide = N * sizeof(A) * 2 == 64;
 #ifdef QRM_HAS_CPU_DISPATCH
   if constexpr (wide) {
-    csr_range_avx512<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet>(job, s, g, k0, k1);
+    csr_range_avx512<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet, G>(job, s, g, k0, k1);
     return;
   } else if (job.level == simd_level::avx2 || !std::is_same_v<A, double>) {
-    csr_range_avx2<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet>(job, s, g, k0, k1);
+    csr_range_avx2<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet, G>(job, s, g, k0, k1);
     return;
   }
 #endif
-  if constexpr (N == 2 && std::is_same_v<A, double>) csr_range_generic<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet>(job, s, g, k0, k1);
+  if constexpr (N == 2 && std::is_same_v<A, double>) csr_range_generic<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet, G>(job, s, g, k0, k1);
 }
 
 // The fixed-width forms (K, XorSet) are compiled for complex matrices only: a real one runs the
 // same code with zero imaginary parts: half the copies (a real form measured 13-18% faster on the
 // random suite's real 3-qubit blocks in cache; from memory the difference was within the noise).
-template <class S, class A, unsigned N, bool Contiguous, std::size_t Dim, unsigned K = 0, unsigned XorSet = 0>
+template <class S, class A, unsigned N, bool Contiguous, std::size_t Dim, unsigned K = 0, unsigned XorSet = 0, unsigned G = 1>
 void csr_range_dim(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0,
                    std::uint64_t k1) {
   if constexpr (K == 0 && XorSet == 0)
-    if (job.m->real) return csr_range_isa<S, A, N, Contiguous, true, Dim, 0, 0>(job, s, g, k0, k1);
-  csr_range_isa<S, A, N, Contiguous, false, Dim, K, XorSet>(job, s, g, k0, k1);
+    if (job.m->real) return csr_range_isa<S, A, N, Contiguous, true, Dim, 0, 0, G>(job, s, g, k0, k1);
+  csr_range_isa<S, A, N, Contiguous, false, Dim, K, XorSet, G>(job, s, g, k0, k1);
 }
 
 // Sparse matrices of 8 to 64 rows run at a fixed count of entries per row (see ell_width), dense

@@ -97,7 +97,10 @@ struct masked_swap_job {
   std::uint64_t pattern_lanes;
 };
 
-template <class V>
+// G > 1 (runs aliasing_stride_bytes apart or more): G vectors (512 bytes) of one run read and
+// written before the other's. X on target 25 of 26 complex<float> qubits took 107 ms against
+// 28-31 ms on targets 13 and 24; 128 bytes at a time 64 ms, 256 bytes 44 ms, 512 bytes 36 ms.
+template <class V, unsigned G = 1>
 [[gnu::always_inline]] inline void swap_runs_masked(const masked_swap_job& job) {
   constexpr unsigned per = sizeof(V) / 4;
   const std::uint64_t dist = job.dist / 4, wrap = job.pattern_lanes - 1;
@@ -105,7 +108,23 @@ template <class V>
   for (run_cursor runs = job.runs; !runs.done(); runs.next()) {
     auto* p = reinterpret_cast<std::uint32_t*>(job.base + runs.first() * job.element_bytes);
     const std::uint64_t lanes = runs.length() * job.element_bytes / 4;
-    for (std::uint64_t j = 0; j < lanes; j += per) {
+    std::uint64_t j = 0;
+    if constexpr (G > 1)
+      for (; j + G * per <= lanes; j += G * per) {
+        V x[G], y[G];
+        for (unsigned u = 0; u < G; ++u) std::memcpy(&x[u], p + j + u * per, sizeof(V));
+        for (unsigned u = 0; u < G; ++u) std::memcpy(&y[u], p + j + dist + u * per, sizeof(V));
+        for (unsigned u = 0; u < G; ++u) {
+          V m;
+          std::memcpy(&m, job.pattern + ((j + u * per) & wrap), sizeof(V));
+          const V d = (x[u] ^ y[u]) & m;
+          x[u] ^= d;
+          y[u] ^= d;
+        }
+        for (unsigned u = 0; u < G; ++u) std::memcpy(p + j + u * per, &x[u], sizeof(V));
+        for (unsigned u = 0; u < G; ++u) std::memcpy(p + j + dist + u * per, &y[u], sizeof(V));
+      }
+    for (; j < lanes; j += per) {
       if (j % 16 == 0) {  // both streams, one line at a time
         prefetch_for_write(p, j + ahead);
         prefetch_for_write(p, j + dist + ahead);
@@ -127,12 +146,22 @@ template <int = 0>
 inline void swap_runs_masked_generic(const masked_swap_job& job) {
   swap_runs_masked<v4u32>(job);
 }
+template <int = 0>
+inline void swap_runs_grouped_generic(const masked_swap_job& job) {
+  swap_runs_masked<v4u32, 32>(job);
+}
 #ifdef QRM_HAS_CPU_DISPATCH
 __attribute__((target("avx2"))) inline void swap_runs_masked_avx2(const masked_swap_job& job) {
   swap_runs_masked<v8u32>(job);
 }
 __attribute__((target("avx512f"))) inline void swap_runs_masked_avx512(const masked_swap_job& job) {
   swap_runs_masked<v16u32>(job);
+}
+__attribute__((target("avx2"))) inline void swap_runs_grouped_avx2(const masked_swap_job& job) {
+  swap_runs_masked<v8u32, 16>(job);
+}
+__attribute__((target("avx512f"))) inline void swap_runs_grouped_avx512(const masked_swap_job& job) {
+  swap_runs_masked<v16u32, 8>(job);
 }
 #endif
 
@@ -158,12 +187,14 @@ inline void swap_adjacent_blocks(void* p, std::uint64_t bytes, std::uint64_t blo
 
 template <int = 0>
 inline void swap_runs_masked(const masked_swap_job& job, simd_level level) {
+  const bool aliased = job.dist >= aliasing_stride_bytes;
 #ifdef QRM_HAS_CPU_DISPATCH
-  if (level == simd_level::avx512) return swap_runs_masked_avx512(job);
-  if (level == simd_level::avx2) return swap_runs_masked_avx2(job);
+  if (level == simd_level::avx512) return aliased ? swap_runs_grouped_avx512(job) : swap_runs_masked_avx512(job);
+  if (level == simd_level::avx2) return aliased ? swap_runs_grouped_avx2(job) : swap_runs_masked_avx2(job);
 #else
   (void)level;
 #endif
+  if (aliased) return swap_runs_grouped_generic(job);
   swap_runs_masked_generic(job);
 }
 
