@@ -435,9 +435,9 @@ constexpr bool float_arithmetic(const exec_policy& ex) {
   return std::is_same_v<S, std::complex<float>> && ex.math == float_math::single_precision;
 }
 
-// A matrix with partners aliasing_stride_bytes apart or more (2x2 or 4x4, dense) is applied G vectors of one column at a time (apply_grouped):
-// an L1 miss per 128-256 bytes of each stream instead of per vector. Needs runs of 16 bases (the
-// controls and targets above qubit 3).
+// A dense 2x2 or 4x4 matrix with partners aliasing_stride_bytes apart or more is applied 16 bases
+// of one column at a time (apply_grouped): an L1 miss per 128-256 bytes of each stream instead of
+// per vector. Needs runs of 16 bases (the controls and targets above qubit 3).
 template <class S>
 bool aliased_streams(std::size_t dim, std::uint64_t tmask, std::uint64_t cmask) {
   const unsigned from = static_cast<unsigned>(std::countr_zero(aliasing_stride_bytes / sizeof(S)));
