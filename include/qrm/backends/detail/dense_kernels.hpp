@@ -641,11 +641,8 @@ void apply_unitary_plan(S* a, unsigned n, const unitary_plan<S>& plan, std::uint
         return lane_mix<S, double, 4>(a, m, targets, bases, chunks);
       }
 #endif
-      if (plan.grouped) {
-        const csr_job<S> job = plan.job(a, n);
-        return m.dim == 2 ? apply_grouped<S, 2>(job, s, ex) : apply_grouped<S, 4>(job, s, ex);
-      }
       const csr_job<S> job = plan.job(a, n);
+      if (plan.grouped) return m.dim == 2 ? apply_grouped<S, 2>(job, s, ex) : apply_grouped<S, 4>(job, s, ex);
 #ifdef QRM_HAS_CPU_DISPATCH
       // Float arithmetic (asked for, and a CPU with AVX2): eight neighbouring bases per 512-bit
       // register where the lowest 3 qubits are free, else four per 256-bit register (neighbours,
