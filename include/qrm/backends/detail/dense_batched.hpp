@@ -355,6 +355,14 @@ inline constexpr std::uint64_t aliasing_stride_bytes = std::uint64_t{1} << 28;
 #define QRM_HAS_CPU_DISPATCH 1
 #endif
 
+// Defining QRM_NO_AVX512 (CMake: -DQRM_AVX512=OFF) leaves the AVX-512 kernels out and runs AVX2 at
+// most: a build for machines without AVX-512 compiles a tenth less (measured in bench/RESULTS.md).
+#if defined(QRM_HAS_CPU_DISPATCH) && !defined(QRM_NO_AVX512)
+inline constexpr bool avx512_kernels = true;
+#else
+inline constexpr bool avx512_kernels = false;
+#endif
+
 #ifdef QRM_HAS_CPU_DISPATCH
 // Eight floats to eight doubles in one instruction, where g++ 12 lowers __builtin_convertvector
 // at this width to two 4-wide conversions, an extract and an insert. A target function, not an
@@ -591,7 +599,8 @@ inline bool cpu_has_avx512f() {
 template <int = 0>
 inline simd_level resolve_simd(simd_level asked) {
 #ifdef QRM_HAS_CPU_DISPATCH
-  if ((asked == simd_level::automatic || asked == simd_level::avx512) && cpu_has_avx512f()) return simd_level::avx512;
+  if (avx512_kernels && (asked == simd_level::automatic || asked == simd_level::avx512) && cpu_has_avx512f())
+    return simd_level::avx512;
   if (asked != simd_level::generic && cpu_has_avx2_fma()) return simd_level::avx2;
 #else
   (void)asked;
@@ -608,7 +617,7 @@ void csr_range_isa(const csr_job<S>& job, const subspace& s, const std::uint64_t
   constexpr bool wide = N * sizeof(A) * 2 == 64;
 #ifdef QRM_HAS_CPU_DISPATCH
   if constexpr (wide) {
-    csr_range_avx512<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet, G>(job, s, g, k0, k1);
+    if constexpr (avx512_kernels) csr_range_avx512<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet, G>(job, s, g, k0, k1);
     return;
   } else if (job.level == simd_level::avx2 || !std::is_same_v<A, double>) {
     csr_range_avx2<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet, G>(job, s, g, k0, k1);

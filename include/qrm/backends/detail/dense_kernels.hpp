@@ -277,21 +277,20 @@ void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cm
         const pair_coefficients c = pair_coefficients::of(g, t);
         float* p = reinterpret_cast<float*>(a);
         for_each_run(sc, ex, 2, [&](std::uint64_t i0, std::uint64_t len) {
-          if (level == simd_level::avx512)
-            low_target_pairs_avx512(p + 2 * i0, len, t, c);
-          else
-            low_target_pairs_avx2(p + 2 * i0, len, t, c);
+          if constexpr (avx512_kernels)
+            if (level == simd_level::avx512) return low_target_pairs_avx512(p + 2 * i0, len, t, c);
+          low_target_pairs_avx2(p + 2 * i0, len, t, c);
         });
         return;
       }
-    } else if (resolve_simd(ex.simd) == simd_level::avx512 && t < 2 && (cmask & 3) == 0 && n >= 2) {
+    } else if (avx512_kernels && resolve_simd(ex.simd) == simd_level::avx512 && t < 2 && (cmask & 3) == 0 && n >= 2) {
       // Double arithmetic at AVX-512, target 0 or 1: four amplitudes per register, the target a lane
       // (dense_lanes.hpp), where the pair loop below widened one scalar at a time.
       const dense_matrix m = dense_matrix::of(g);
       const qubit_index target[] = {static_cast<qubit_index>(t)};
       const subspace bases(n, cmask, cvalue);
       const auto chunks = [&](auto&& f) { for_each_chunk(bases, ex, 2, f); };
-      return lane_mix<S, double, 4, 2>(a, m, target, bases, chunks);
+      if constexpr (avx512_kernels) return lane_mix<S, double, 4, 2>(a, m, target, bases, chunks);
     }
 #endif
   }
@@ -580,22 +579,19 @@ struct unitary_plan {
 template <class S, std::size_t Dim>
 void apply_grouped(const csr_job<S>& job, const subspace& s, const exec_policy& ex) {
   static constexpr std::uint64_t neighbours[4] = {0, 1, 2, 3};
-  const bool wide = job.level == simd_level::avx512;
+  const bool wide = avx512_kernels && job.level == simd_level::avx512;
   for_each_chunk(s, ex, Dim, [&](std::uint64_t k0, std::uint64_t k1) {
 #ifdef QRM_HAS_CPU_DISPATCH
     if constexpr (std::is_same_v<S, std::complex<float>>)
       if (float_arithmetic<S>(ex) && job.level != simd_level::generic) {
-        if (wide)
-          csr_range_dim<S, float, 8, true, Dim, 0, 0, 2>(job, s, neighbours, k0, k1);
-        else
-          csr_range_dim<S, float, 4, true, Dim, 0, 0, 4>(job, s, neighbours, k0, k1);
-        return;
+        if constexpr (avx512_kernels)
+          if (wide) return csr_range_dim<S, float, 8, true, Dim, 0, 0, 2>(job, s, neighbours, k0, k1);
+        return csr_range_dim<S, float, 4, true, Dim, 0, 0, 4>(job, s, neighbours, k0, k1);
       }
 #endif
-    if (wide)
-      csr_range_dim<S, double, 4, true, Dim, 0, 0, 4>(job, s, neighbours, k0, k1);
-    else
-      csr_range_dim<S, double, 2, true, Dim, 0, 0, 8>(job, s, neighbours, k0, k1);
+    if constexpr (avx512_kernels)
+      if (wide) return csr_range_dim<S, double, 4, true, Dim, 0, 0, 4>(job, s, neighbours, k0, k1);
+    csr_range_dim<S, double, 2, true, Dim, 0, 0, 8>(job, s, neighbours, k0, k1);
   });
 }
 
@@ -614,12 +610,14 @@ void apply_unitary_plan(S* a, unsigned n, const unitary_plan<S>& plan, std::uint
       return apply_unitary_plan(reinterpret_cast<std::complex<double>*>(a), n - 1, *plan.on_pairs, tmask >> 1, cmask >> 1,
                                 cvalue >> 1, ex);
 #ifdef QRM_HAS_CPU_DISPATCH
-    if (plan.lane_path) {
+    if (avx512_kernels && plan.lane_path) {
       const subspace bases(n, cmask | (tmask & ~std::uint64_t{7}), cvalue);
       const auto chunks = [&](auto&& g) { for_each_chunk(bases, ex, 8, g); };
       const std::span<const qubit_index> targets(plan.targets);
-      if (plan.m->dim == 4) return lane_mix<S, double, 8, 4>(a, *plan.m, targets, bases, chunks);
-      return lane_mix<S, double, 8>(a, *plan.m, targets, bases, chunks);
+      if constexpr (avx512_kernels) {
+        if (plan.m->dim == 4) return lane_mix<S, double, 8, 4>(a, *plan.m, targets, bases, chunks);
+        return lane_mix<S, double, 8>(a, *plan.m, targets, bases, chunks);
+      }
     }
 #endif
   }
@@ -628,17 +626,19 @@ void apply_unitary_plan(S* a, unsigned n, const unitary_plan<S>& plan, std::uint
   if constexpr (scalar_traits<S>::is_complex) {
     if (plan.vector_kernel) {
 #ifdef QRM_HAS_CPU_DISPATCH
-      if (plan.lane_path) {
-        const std::uint64_t lanes = float_arithmetic<S>(ex) ? 7 : 3;
-        const subspace bases(n, cmask | (tmask & ~lanes), cvalue);
-        const auto chunks = [&](auto&& g) { for_each_chunk(bases, ex, m.dim, g); };
-        const std::span<const qubit_index> targets(plan.targets);
-        if constexpr (std::is_same_v<S, std::complex<float>>)
-          if (float_arithmetic<S>(ex))
-            return m.dim == 4 ? lane_mix<S, float, 8, 4>(a, m, targets, bases, chunks)
-                              : lane_mix<S, float, 8>(a, m, targets, bases, chunks);
-        if (m.dim == 4) return lane_mix<S, double, 4, 4>(a, m, targets, bases, chunks);
-        return lane_mix<S, double, 4>(a, m, targets, bases, chunks);
+      if constexpr (avx512_kernels) {
+        if (plan.lane_path) {
+          const std::uint64_t lanes = float_arithmetic<S>(ex) ? 7 : 3;
+          const subspace bases(n, cmask | (tmask & ~lanes), cvalue);
+          const auto chunks = [&](auto&& g) { for_each_chunk(bases, ex, m.dim, g); };
+          const std::span<const qubit_index> targets(plan.targets);
+          if constexpr (std::is_same_v<S, std::complex<float>>)
+            if (float_arithmetic<S>(ex))
+              return m.dim == 4 ? lane_mix<S, float, 8, 4>(a, m, targets, bases, chunks)
+                                : lane_mix<S, float, 8>(a, m, targets, bases, chunks);
+          if (m.dim == 4) return lane_mix<S, double, 4, 4>(a, m, targets, bases, chunks);
+          return lane_mix<S, double, 4>(a, m, targets, bases, chunks);
+        }
       }
 #endif
       const csr_job<S> job = plan.job(a, n);
@@ -653,9 +653,10 @@ void apply_unitary_plan(S* a, unsigned n, const unitary_plan<S>& plan, std::uint
         if (ex.math == float_math::single_precision && job.level != simd_level::generic && (wide || gr.ok)) {
           if (wide) {
             static constexpr std::uint64_t neighbours[4] = {0, 1, 2, 3};
-            for_each_chunk(s, ex, m.dim, [&](std::uint64_t k0, std::uint64_t k1) {
-              csr_range<S, 8, true, float>(job, s, neighbours, k0, k1);
-            });
+            if constexpr (avx512_kernels)
+              for_each_chunk(s, ex, m.dim, [&](std::uint64_t k0, std::uint64_t k1) {
+                csr_range<S, 8, true, float>(job, s, neighbours, k0, k1);
+              });
           } else {
             for_each_chunk(gr.bases, ex, m.dim * (gr.contiguous ? 1 : 4), [&](std::uint64_t k0, std::uint64_t k1) {
               if (gr.contiguous)
@@ -678,10 +679,12 @@ void apply_unitary_plan(S* a, unsigned n, const unitary_plan<S>& plan, std::uint
         const std::uint64_t work = m.dim * (gr.contiguous ? 1 : per);
         for_each_chunk(bs, ex, work, [&](std::uint64_t k0, std::uint64_t k1) {
           if (per == 4) {
-            if (gr.contiguous)
-              csr_range<S, 4, true>(job, bs, g, k0, k1);
-            else
-              csr_range<S, 4, false>(job, bs, g, k0, k1);
+            if constexpr (avx512_kernels) {
+              if (gr.contiguous)
+                csr_range<S, 4, true>(job, bs, g, k0, k1);
+              else
+                csr_range<S, 4, false>(job, bs, g, k0, k1);
+            }
           } else {
             if (gr.contiguous)
               csr_range<S, 2, true>(job, bs, g, k0, k1);

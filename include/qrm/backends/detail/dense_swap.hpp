@@ -177,7 +177,8 @@ template <int = 0>
 inline void swap_adjacent_blocks(void* p, std::uint64_t bytes, std::uint64_t block_bytes, simd_level level) {
   auto* w = static_cast<std::uint32_t*>(p);
 #ifdef QRM_HAS_CPU_DISPATCH
-  if (level == simd_level::avx512) return swap_blocks_avx512(w, bytes / 4, block_bytes / 4);
+  if constexpr (avx512_kernels)
+    if (level == simd_level::avx512) return swap_blocks_avx512(w, bytes / 4, block_bytes / 4);
   if (level == simd_level::avx2) return swap_blocks_avx2(w, bytes / 4, block_bytes / 4);
 #else
   (void)level;
@@ -189,7 +190,8 @@ template <int = 0>
 inline void swap_runs_masked(const masked_swap_job& job, simd_level level) {
   const bool aliased = job.dist >= aliasing_stride_bytes;
 #ifdef QRM_HAS_CPU_DISPATCH
-  if (level == simd_level::avx512) return aliased ? swap_runs_grouped_avx512(job) : swap_runs_masked_avx512(job);
+  if constexpr (avx512_kernels)
+    if (level == simd_level::avx512) return aliased ? swap_runs_grouped_avx512(job) : swap_runs_masked_avx512(job);
   if (level == simd_level::avx2) return aliased ? swap_runs_grouped_avx2(job) : swap_runs_masked_avx2(job);
 #else
   (void)level;
