@@ -46,6 +46,46 @@ TEST_CASE_TEMPLATE("single-qubit gates on 14 qubits match the reference at every
   }
 }
 
+// complex<float> 1-qubit gates on qubits 0-2 take a kernel per vector level and arithmetic (dense_pairs.hpp:
+// float lanes at AVX2 / AVX-512, widened pairs in double arithmetic at AVX2, lanes at AVX-512), each
+// only where no control splits its vector: every level asked for, both arithmetics, one and two
+// threads, controls below, between and above, against the reference (float rounding: 2e-5).
+TEST_CASE("complex<float> 1-qubit gates on qubits 0-2 match the reference at every level and arithmetic") {
+  using cf = std::complex<float>;
+  using T = backend_traits<qrm::state_vector<cf>>;
+  qrm::rng g(13);
+  const std::size_t n = 7;
+  const std::vector<qrm::gate1> gates = {qrm::gate::h(), qrm::gate::ry(0.7), random_gate1_nonunitary(g, true)};
+  const std::vector<std::vector<control>> control_sets = {{}, {{0, true}}, {{1, false}}, {{2, true}}, {{3, true}, {6, false}}};
+  std::size_t cases = 0;
+  for (qrm::simd_level level : {qrm::simd_level::generic, qrm::simd_level::avx2, qrm::simd_level::avx512})
+    for (const qrm::float_math math : {qrm::float_math::double_precision, qrm::float_math::single_precision})
+      for (unsigned threads : {1u, 2u})
+        for (qubit_index t = 0; t < 3; ++t)
+          for (const auto& cs : control_sets) {
+            if (!cs.empty() && cs[0].qubit == t) continue;
+            for (const auto& gate : gates) {
+              qrm::dense_options o;
+              o.threads = threads;
+              o.simd = level;
+              o.math = math;
+              qrm::state_vector<cf> b(n, o);
+              b.set_min_parallel(1);
+              T::load(b, random_state(n, g, true));
+              reference_state ref(n);
+              ref.amp = T::dump(b);
+              ref.apply_gate1(gate, t, cs);
+              b.apply_gate1(gate, t, cs);
+              INFO("level " << std::string(qrm::simd_level_name(level)) << " float arithmetic "
+                            << (math == qrm::float_math::single_precision) << " threads " << threads << " target " << t
+                            << " controls " << cs.size() << " kind " << qrm::gate1_name(gate.kind));
+              CHECK(max_diff(ref.amp, T::dump(b)) <= T::tolerance);
+              ++cases;
+            }
+          }
+  CHECK(cases == 3 * 2 * 2 * (3 * 4) * 3);
+}
+
 // Partners 2^28 bytes apart or more (target 25 of a 26-qubit complex<float> state) take the
 // grouped form of the matrix kernel (detail::aliased_streams), a path no smaller state takes: a
 // complex 2x2 gate on qubit 25 and a 4x4 matrix on (25, 5) with a control above qubit 3 (grouped)

@@ -283,6 +283,14 @@ void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cm
         });
         return;
       }
+    } else if (const subspace sc(n, cmask, cvalue);
+               resolve_simd(ex.simd) == simd_level::avx2 && t < 2 &&
+               std::min(sc.npos ? (std::uint64_t{1} << sc.pos[0]) : sc.count(), chunk_members) >= 4) {
+      // Double arithmetic at AVX2, target 0 or 1, runs of 4 amplitudes or more: see dense_pairs.hpp.
+      const widened_pair_coefficients c = widened_pair_coefficients::of(g);
+      float* p = reinterpret_cast<float*>(a);
+      for_each_run(sc, ex, 2, [&](std::uint64_t i0, std::uint64_t len) { low_target_pairs_widened_avx2(p + 2 * i0, len, t, c); });
+      return;
     } else if (avx512_kernels && resolve_simd(ex.simd) == simd_level::avx512 && t < 2 && (cmask & 3) == 0 && n >= 2) {
       // Double arithmetic at AVX-512, target 0 or 1: four amplitudes per register, the target a lane
       // (dense_lanes.hpp), where the pair loop below widened one scalar at a time.
@@ -296,7 +304,7 @@ void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cm
   }
   // Where the matrix kernel's vectors beat the scalar pair loop below. complex<float>: above
   // target 0, 1.5-3x (floats widened to double, two or four bases per register; 2^22
-  // amplitudes, one thread); at target 0 (without AVX-512) the loop is already one vectorised
+  // amplitudes, one thread); at target 0 (generic level) the loop is already one vectorised
   // stream. complex<double>: from target 4, where the loop takes its prefetching form, 0.38-0.43
   // against 0.75-0.78 ns per amplitude in a cache-sized state (2^15, as in a chunked run), level
   // from memory; at target 3 the loop is faster, 0.43 against 0.48 (AVX2 AMD EPYC VM,

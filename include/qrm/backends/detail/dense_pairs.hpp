@@ -9,6 +9,11 @@
 // coefficient), so a vector costs three lane shuffles (f ^ 1, f ^ P, f ^ P ^ 1) and four
 // multiply-adds against per-lane coefficients, with no widening to double. (In double arithmetic the
 // widening and the shuffles share one port; that kernel reached 1.15-1.25x the pair loop.)
+//
+// In double arithmetic with AVX2 (AVX-512 has the lane kernels of dense_lanes.hpp) on target 0 or
+// 1, four amplitudes are widened as two registers of two complex doubles, the pairs' row-0
+// amplitudes and their row-1 partners: each product is then one in-lane (re, im) swap and two
+// multiplies, and the only shuffles are within the eight floats before widening and after.
 #pragma once
 
 #include <cstddef>
@@ -73,7 +78,98 @@ template <class V, unsigned Partner>
   }
 }
 
+typedef float v4f __attribute__((vector_size(16)));
+typedef double v4d __attribute__((vector_size(32)));
+
+// The coefficients of gate g for two complex doubles per register, by output row r:
+// out_r = own_re z_r + own_im (z_r, re and im exchanged) + other_re z_1-r + other_im (...).
+struct widened_pair_coefficients {
+  double own_re[2][4], own_im[2][4], other_re[2][4], other_im[2][4];
+
+  template <int = 0>
+  static widened_pair_coefficients of(const gate1& g) {
+    widened_pair_coefficients c;
+    for (unsigned r = 0; r < 2; ++r)
+      for (unsigned l = 0; l < 4; ++l) {
+        const double sign = l % 2 == 0 ? -1.0 : 1.0;  // re out: re(m) re(z) - im(m) im(z)
+        c.own_re[r][l] = g.m[r][r].real();
+        c.own_im[r][l] = sign * g.m[r][r].imag();
+        c.other_re[r][l] = g.m[r][1 - r].real();
+        c.other_im[r][l] = sign * g.m[r][1 - r].imag();
+      }
+    return c;
+  }
+};
+
+// Four floats to four doubles and back in one instruction each (g++ 12 lowers
+// __builtin_convertvector here to two 2-wide conversions and an insert). Target functions, as
+// widen_eight_floats, which the AVX2 copy below inlines; results by reference (-Wpsabi).
 #ifdef QRM_HAS_CPU_DISPATCH
+template <int = 0>
+__attribute__((target("avx2,fma"))) inline void widen4(const v4f& v, v4d& out) {
+#ifdef __clang__
+  out = __builtin_convertvector(v, v4d);
+#else
+  out = __builtin_ia32_cvtps2pd256(v);
+#endif
+}
+template <int = 0>
+__attribute__((target("avx2,fma"))) inline void narrow4(const v4d& v, v4f& out) {
+#ifdef __clang__
+  out = __builtin_convertvector(v, v4f);
+#else
+  out = __builtin_ia32_cvtpd2ps256(v);
+#endif
+}
+
+// Applies the gate on target T (0 or 1) to the `count` amplitudes at p (a multiple of 4) in double
+// arithmetic; each step's amplitudes k = 0..3 are two halves of four floats, row 0 those with bit T
+// of k clear.
+template <unsigned T>
+[[gnu::always_inline]] inline void low_target_pairs_widened(float* p, std::uint64_t count,
+                                                             const widened_pair_coefficients& c) {
+  v4d own_re[2], own_im[2], other_re[2], other_im[2];
+  std::memcpy(own_re, c.own_re, sizeof own_re);
+  std::memcpy(own_im, c.own_im, sizeof own_im);
+  std::memcpy(other_re, c.other_re, sizeof other_re);
+  std::memcpy(other_im, c.other_im, sizeof other_im);
+  for (std::uint64_t f = 0; f < 2 * count; f += 8) {
+    v4f lo, hi, rows0, rows1;
+    std::memcpy(&lo, p + f, sizeof lo);
+    std::memcpy(&hi, p + f + 4, sizeof hi);
+    if constexpr (T == 0) {
+      rows0 = __builtin_shufflevector(lo, hi, 0, 1, 4, 5);
+      rows1 = __builtin_shufflevector(lo, hi, 2, 3, 6, 7);
+    } else {
+      rows0 = lo;
+      rows1 = hi;
+    }
+    v4d x, y;
+    widen4(rows0, x);
+    widen4(rows1, y);
+    const v4d xs = __builtin_shufflevector(x, x, 1, 0, 3, 2), ys = __builtin_shufflevector(y, y, 1, 0, 3, 2);
+    v4f x_out, y_out;
+    narrow4(own_re[0] * x + own_im[0] * xs + other_re[0] * y + other_im[0] * ys, x_out);
+    narrow4(own_re[1] * y + own_im[1] * ys + other_re[1] * x + other_im[1] * xs, y_out);
+    if constexpr (T == 0) {
+      lo = __builtin_shufflevector(x_out, y_out, 0, 1, 4, 5);
+      hi = __builtin_shufflevector(x_out, y_out, 2, 3, 6, 7);
+    } else {
+      lo = x_out;
+      hi = y_out;
+    }
+    std::memcpy(p + f, &lo, sizeof lo);
+    std::memcpy(p + f + 4, &hi, sizeof hi);
+  }
+}
+
+template <int = 0>
+__attribute__((target("avx2,fma"))) void low_target_pairs_widened_avx2(float* p, std::uint64_t count, unsigned t,
+                                                                      const widened_pair_coefficients& c) {
+  if (t == 0) low_target_pairs_widened<0>(p, count, c);
+  else low_target_pairs_widened<1>(p, count, c);
+}
+
 // Target t at most 1 (AVX2) or 2 (AVX-512).
 template <int = 0>
 __attribute__((target("avx2,fma"))) void low_target_pairs_avx2(float* p, std::uint64_t count, unsigned t,
