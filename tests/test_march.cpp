@@ -139,8 +139,8 @@ march_program march_ops(const qrm::walk_model& m) {
 }
 
 // Under AddressSanitizer a basis state costs about 17x its optimized time (this test: 123 s
-// against 7 s), so there every fresh voxel-centre state runs and one in 7 of the others; memory errors, not
-// coverage, are what that build is for, and the optimized build runs every state.
+// against 7 s), so there every fresh voxel-centre state runs and one in 7 of the others: memory
+// errors, not coverage, are what that build is for, and the optimized build runs every state.
 #if defined(__SANITIZE_ADDRESS__)
 constexpr std::uint64_t sanitizer_stride = 7;
 #elif defined(__has_feature)
@@ -154,7 +154,8 @@ constexpr std::uint64_t sanitizer_stride = 1;
 #endif
 
 // Runs the March gate on every basis state of (position, direction, distance) (sampled under
-// AddressSanitizer, above) and checks it is a permutation of them that maps (voxel centre, d, 0) to (the marcher's landing, d, k).
+// AddressSanitizer, above) and checks it is a permutation of them that maps (voxel centre, d, 0)
+// to (the marcher's landing, d, k).
 void check_march_bijection(const qrm::walk_model& m) {
   const march_program mp = march_ops(m);
   REQUIRE(!mp.ops.ops().empty());

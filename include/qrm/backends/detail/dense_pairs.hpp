@@ -101,24 +101,16 @@ struct widened_pair_coefficients {
   }
 };
 
-// Four floats to four doubles and back in one instruction each (g++ 12 lowers
-// __builtin_convertvector here to two 2-wide conversions and an insert). Target functions, as
-// widen_eight_floats, which the AVX2 copy below inlines; results by reference (-Wpsabi).
 #ifdef QRM_HAS_CPU_DISPATCH
+// Four floats to four doubles in one instruction, where g++ 12 lowers __builtin_convertvector at
+// this width to two 2-wide conversions and an insert (narrowing it compiles to one). A target
+// function, as widen_eight_floats, which the AVX2 copy below inlines; result by reference (-Wpsabi).
 template <int = 0>
-__attribute__((target("avx2,fma"))) inline void widen4(const v4f& v, v4d& out) {
+__attribute__((target("avx2,fma"))) inline void widen_four_floats(const v4f& v, v4d& out) {
 #ifdef __clang__
   out = __builtin_convertvector(v, v4d);
 #else
   out = __builtin_ia32_cvtps2pd256(v);
-#endif
-}
-template <int = 0>
-__attribute__((target("avx2,fma"))) inline void narrow4(const v4d& v, v4f& out) {
-#ifdef __clang__
-  out = __builtin_convertvector(v, v4f);
-#else
-  out = __builtin_ia32_cvtpd2ps256(v);
 #endif
 }
 
@@ -145,12 +137,11 @@ template <unsigned T>
       rows1 = hi;
     }
     v4d x, y;
-    widen4(rows0, x);
-    widen4(rows1, y);
+    widen_four_floats(rows0, x);
+    widen_four_floats(rows1, y);
     const v4d xs = __builtin_shufflevector(x, x, 1, 0, 3, 2), ys = __builtin_shufflevector(y, y, 1, 0, 3, 2);
-    v4f x_out, y_out;
-    narrow4(own_re[0] * x + own_im[0] * xs + other_re[0] * y + other_im[0] * ys, x_out);
-    narrow4(own_re[1] * y + own_im[1] * ys + other_re[1] * x + other_im[1] * xs, y_out);
+    const v4f x_out = __builtin_convertvector(own_re[0] * x + own_im[0] * xs + other_re[0] * y + other_im[0] * ys, v4f);
+    const v4f y_out = __builtin_convertvector(own_re[1] * y + own_im[1] * ys + other_re[1] * x + other_im[1] * xs, v4f);
     if constexpr (T == 0) {
       lo = __builtin_shufflevector(x_out, y_out, 0, 1, 4, 5);
       hi = __builtin_shufflevector(x_out, y_out, 2, 3, 6, 7);
