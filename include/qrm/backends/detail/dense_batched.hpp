@@ -373,16 +373,32 @@ template <class Vec, class Stored>
 __attribute__((target("avx512f"))) inline void widen_eight_floats(const Stored& v, Vec& out) {
   out = __builtin_ia32_cvtps2pd512_mask(v, Vec{}, -1, 4);  // every lane, the current rounding mode
 }
+
+// Four floats to four doubles in one instruction, where g++ 12 lowers __builtin_convertvector at
+// this width to two 2-wide conversions and an insert (narrowing compiles to one instruction); the
+// AVX2 copies inline it. The fused 2-qubit blocks of the random suite (24 qubits, complex<float>,
+// double arithmetic) took 1.35-1.39 s with the split form, 1.14-1.25 s with this (bench/RESULTS.md).
+template <class Vec, class Stored>
+__attribute__((target("avx2,fma"))) inline void widen_four_floats(const Stored& v, Vec& out) {
+#ifdef __clang__
+  out = __builtin_convertvector(v, Vec);  // clang already emits one instruction
+#else
+  out = __builtin_ia32_cvtps2pd256(v);
+#endif
+}
 #endif
 
-// The amplitudes loaded as stored (R) in the arithmetic type (A) of the kernels below.
-template <class Vec, class Stored>
+// The amplitudes loaded as stored (R) in the arithmetic type (A) of the kernels below, in a
+// kernel compiled for `Isa` (the 4-float form needs to know it is inside an AVX2 copy).
+template <simd_level Isa, class Vec, class Stored>
 [[gnu::always_inline]] inline void widen(const Stored& v, Vec& out) {
   if constexpr (std::is_same_v<Vec, Stored>)
     out = v;
 #ifdef QRM_HAS_CPU_DISPATCH
   else if constexpr (sizeof(Vec) == 64 && sizeof(Stored) == 32)
     widen_eight_floats(v, out);
+  else if constexpr (Isa == simd_level::avx2 && sizeof(Vec) == 32 && sizeof(Stored) == 16)
+    widen_four_floats(v, out);
 #endif
   else
     out = __builtin_convertvector(v, Vec);
@@ -401,12 +417,12 @@ template <unsigned N, class Vec>
 }
 
 // Applies the job at the bases that are members [k0, k1) of s, N bases per vector (see
-// base_groups), in arithmetic type A (double, or float for complex<float>). A complex product is two sums, A = sum re(m) x and B = sum im(m) x, and
+// base_groups), in the instructions of Isa, in arithmetic type A (double, or float for complex<float>). A complex product is two sums, A = sum re(m) x and B = sum im(m) x, and
 // out = A + i B, where i B swaps each (re, im) pair and negates the new real part: one vector
 // per column instead of two. Everything it calls is inlined, so each ISA's copy below is
 // self-contained (a helper lambda would be compiled without the caller's ISA).
-template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K = 0, unsigned XorSet = 0,
-          unsigned G = 1>
+template <simd_level Isa, class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K = 0,
+          unsigned XorSet = 0, unsigned G = 1>
 [[gnu::always_inline]] inline void csr_range_body(const csr_job<S>& job, const subspace& s, const std::uint64_t* g,
                                                   std::uint64_t k0, std::uint64_t k1) {
   using R = typename scalar_traits<S>::real;
@@ -434,13 +450,23 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
   }
   const std::uint8_t* ell_col = job.ell_col;
   R* p = reinterpret_cast<R*>(job.a);
-  // The offsets in locals where their count is fixed: stores through p (memcpy) may alias the
-  // job's arrays, so the compiler reloaded every offset on every iteration.
+  // The offsets in locals where their count is fixed, and the coefficients of dense matrices up to
+  // 4x4: stores through p (memcpy) may alias the job's arrays, so the compiler reloaded every offset
+  // and broadcast every coefficient on every iteration (a 1-qubit gate on target 13, n = 26,
+  // complex<float> in double arithmetic: 45-49 -> 40 ms).
   std::uint64_t store_local[Dim ? Dim : 1], load_local[Dim ? Dim : 1];
+  constexpr bool dense_small = Dim != 0 && Dim <= 4 && K == 0 && XorSet == 0;
+  constexpr std::size_t local_coefficients = dense_small ? Dim * Dim : 1;
+  A dense_re_local[local_coefficients], dense_im_local[local_coefficients];
   if constexpr (Dim != 0) {
     for (std::size_t i = 0; i < Dim; ++i) store_local[i] = off[i], load_local[i] = load_off[i];
     off = store_local;
     load_off = load_local;
+  }
+  if constexpr (dense_small) {
+    for (std::size_t i = 0; i < Dim * Dim; ++i) dense_re_local[i] = dense_re[i], dense_im_local[i] = dense_im[i];
+    dense_re = dense_re_local;
+    dense_im = dense_im_local;
   }
   vec x[vector_kernel_max_dim];
   vec sign;
@@ -461,7 +487,7 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
           for (unsigned u = 0; u < G; ++u) {
             stored v;
             std::memcpy(&v, p + 2 * (b + u * N + load_off[c]), sizeof v);
-            widen(v, x[c * G + u]);
+            widen<Isa>(v, x[c * G + u]);
           }
         }
         for (std::size_t r = 0; r < Dim; ++r) {
@@ -510,7 +536,7 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
             v = __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
           }
         }
-        widen(v, x[c]);
+        widen<Isa>(v, x[c]);
       }
       for (std::size_t r = 0; r < dim; ++r) {
         vec acc = {}, acc_im = {};
@@ -568,7 +594,7 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
           unsigned G = 1>
 void csr_range_generic(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0,
                        std::uint64_t k1) {
-  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet, G>(job, s, g, k0, k1);
+  csr_range_body<simd_level::generic, S, A, N, Contiguous, RealMatrix, Dim, K, XorSet, G>(job, s, g, k0, k1);
 }
 
 #ifdef QRM_HAS_CPU_DISPATCH
@@ -576,13 +602,13 @@ template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::s
           unsigned G = 1>
 __attribute__((target("avx2,fma"))) void csr_range_avx2(const csr_job<S>& job, const subspace& s,
                                                         const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
-  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet, G>(job, s, g, k0, k1);
+  csr_range_body<simd_level::avx2, S, A, N, Contiguous, RealMatrix, Dim, K, XorSet, G>(job, s, g, k0, k1);
 }
 template <class S, class A, unsigned N, bool Contiguous, bool RealMatrix, std::size_t Dim, unsigned K, unsigned XorSet,
           unsigned G = 1>
 __attribute__((target("avx512f"))) void csr_range_avx512(const csr_job<S>& job, const subspace& s,
                                                          const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
-  csr_range_body<S, A, N, Contiguous, RealMatrix, Dim, K, XorSet, G>(job, s, g, k0, k1);
+  csr_range_body<simd_level::avx512, S, A, N, Contiguous, RealMatrix, Dim, K, XorSet, G>(job, s, g, k0, k1);
 }
 template <int = 0>
 inline bool cpu_has_avx2_fma() {

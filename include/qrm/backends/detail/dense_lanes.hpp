@@ -107,7 +107,7 @@ template <class S, class A, unsigned N, unsigned Dim, unsigned LowMask, bool Rea
         stored v;
         std::memcpy(&v, p + C * (b + offset[c]), sizeof v);
         vec w;
-        widen(v, w);
+        widen<simd_level::avx512>(v, w);
         permute_all<S, A, N, LowMask>(w, x + c * Patterns, std::make_index_sequence<Patterns>{});
       }
       for (unsigned r = 0; r < Columns; ++r) {

@@ -102,18 +102,6 @@ struct widened_pair_coefficients {
 };
 
 #ifdef QRM_HAS_CPU_DISPATCH
-// Four floats to four doubles in one instruction, where g++ 12 lowers __builtin_convertvector at
-// this width to two 2-wide conversions and an insert (narrowing it compiles to one). A target
-// function, as widen_eight_floats, which the AVX2 copy below inlines; result by reference (-Wpsabi).
-template <int = 0>
-__attribute__((target("avx2,fma"))) inline void widen_four_floats(const v4f& v, v4d& out) {
-#ifdef __clang__
-  out = __builtin_convertvector(v, v4d);
-#else
-  out = __builtin_ia32_cvtps2pd256(v);
-#endif
-}
-
 // Applies the gate on target T (0 or 1) to the `count` amplitudes at p (a multiple of 4) in double
 // arithmetic; each step's amplitudes k = 0..3 are two halves of four floats, row 0 those with bit T
 // of k clear.
