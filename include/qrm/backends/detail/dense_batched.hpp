@@ -364,6 +364,19 @@ inline constexpr bool avx512_kernels = true;
 inline constexpr bool avx512_kernels = false;
 #endif
 
+// The matrix kernels' specialised forms (fixed sizes and offset sets, grouped columns, register
+// lanes) are each a function per matrix shape, ISA and scalar: an unoptimised build (-O0, where
+// __OPTIMIZE__ is undefined) compiles only the general forms they specialise, which compute the
+// same sums (over the same non-zero entries; the specialised forms add exact zeros, and sum an
+// offset set's entries in another order: results may differ by rounding). The README tour's
+// circuit at -O0 with g++ 12: 4.7 s -> 3.0 s (bench/RESULTS.md). QRM_ALL_KERNELS keeps every form
+// at -O0; QRM_FEWER_KERNELS drops them at any level (the test of this path).
+#if defined(QRM_FEWER_KERNELS) || (!defined(__OPTIMIZE__) && !defined(QRM_ALL_KERNELS))
+inline constexpr bool specialized_kernels = false;
+#else
+inline constexpr bool specialized_kernels = true;
+#endif
+
 #ifdef QRM_HAS_CPU_DISPATCH
 // Eight floats to eight doubles in one instruction, where g++ 12 lowers __builtin_convertvector
 // at this width to two 4-wide conversions, an extract and an insert. A target function, not an
@@ -669,6 +682,7 @@ void csr_range_dim(const csr_job<S>& job, const subspace& s, const std::uint64_t
 // ones of 4, 8 or 16 rows with unrolled loops, the rest by row lists. `s` and `g` are a base_groups' bases and offsets.
 template <class S, unsigned N, bool Contiguous, class A = double>
 void csr_range(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
+  if constexpr (specialized_kernels) {
   if constexpr (Contiguous) {  // the fixed-width forms only where bases are neighbours (see csr_range_dim)
     switch (job.ell_xor) {
       case 0x03: return csr_range_dim<S, A, N, Contiguous, 8, 0, 0x03>(job, s, g, k0, k1);
@@ -700,6 +714,7 @@ void csr_range(const csr_job<S>& job, const subspace& s, const std::uint64_t* g,
       case 16: return csr_range_dim<S, A, N, Contiguous, 16>(job, s, g, k0, k1);
       default: break;
     }
+  }
   }
   csr_range_dim<S, A, N, Contiguous, 0>(job, s, g, k0, k1);
 }

@@ -291,14 +291,15 @@ void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cm
       float* p = reinterpret_cast<float*>(a);
       for_each_run(sc, ex, 2, [&](std::uint64_t i0, std::uint64_t len) { low_target_pairs_widened_avx2(p + 2 * i0, len, t, c); });
       return;
-    } else if (avx512_kernels && resolve_simd(ex.simd) == simd_level::avx512 && t < 2 && (cmask & 3) == 0 && n >= 2) {
+    } else if (avx512_kernels && specialized_kernels && resolve_simd(ex.simd) == simd_level::avx512 && t < 2 &&
+               (cmask & 3) == 0 && n >= 2) {
       // Double arithmetic at AVX-512, target 0 or 1: four amplitudes per register, the target a lane
       // (dense_lanes.hpp), where the pair loop below widened one scalar at a time.
       const dense_matrix m = dense_matrix::of(g);
       const qubit_index target[] = {static_cast<qubit_index>(t)};
       const subspace bases(n, cmask, cvalue);
       const auto chunks = [&](auto&& f) { for_each_chunk(bases, ex, 2, f); };
-      if constexpr (avx512_kernels) return lane_mix<S, double, 4, 2>(a, m, target, bases, chunks);
+      if constexpr (avx512_kernels && specialized_kernels) return lane_mix<S, double, 4, 2>(a, m, target, bases, chunks);
     }
 #endif
   }
@@ -490,7 +491,7 @@ struct unitary_plan {
       }
 #ifdef QRM_HAS_CPU_DISPATCH
       // Else a real 8x8 matrix may take the lanes of eight doubles.
-      lane_path = !on_pairs && mat.is_real() && takes_lanes(mat, tmask, cmask, 7, resolve_simd(ex.simd));
+      lane_path = specialized_kernels && !on_pairs && mat.is_real() && takes_lanes(mat, tmask, cmask, 7, resolve_simd(ex.simd));
 #endif
     }
     if constexpr (scalar_traits<S>::is_complex) {
@@ -499,7 +500,7 @@ struct unitary_plan {
       level = resolve_simd(ex.simd);
 #ifdef QRM_HAS_CPU_DISPATCH
       // Qubits 0-2 are lanes in float arithmetic, 0-1 in double: otherwise bases gathered four at a time.
-      lane_path = takes_lanes(mat, tmask, cmask, float_arithmetic<S>(ex) ? 7 : 3, level);
+      lane_path = specialized_kernels && takes_lanes(mat, tmask, cmask, float_arithmetic<S>(ex) ? 7 : 3, level);
       if (lane_path) return;
 #endif
       rows = csr_matrix::of(mat);
@@ -547,7 +548,7 @@ struct unitary_plan {
             ell_re_f[at] = static_cast<float>(z.real()), ell_im_f[at] = static_cast<float>(z.imag());
           }
       }
-      grouped = !dense_re.empty() && aliased_streams<S>(mat.dim, tmask, cmask);
+      grouped = specialized_kernels && !dense_re.empty() && aliased_streams<S>(mat.dim, tmask, cmask);
       if (float_arithmetic<S>(ex)) {
         dense_re_f.assign(dense_re.begin(), dense_re.end());
         dense_im_f.assign(dense_im.begin(), dense_im.end());
@@ -622,7 +623,7 @@ void apply_unitary_plan(S* a, unsigned n, const unitary_plan<S>& plan, std::uint
       const subspace bases(n, cmask | (tmask & ~std::uint64_t{7}), cvalue);
       const auto chunks = [&](auto&& g) { for_each_chunk(bases, ex, 8, g); };
       const std::span<const qubit_index> targets(plan.targets);
-      if constexpr (avx512_kernels) {
+      if constexpr (avx512_kernels && specialized_kernels) {
         if (plan.m->dim == 4) return lane_mix<S, double, 8, 4>(a, *plan.m, targets, bases, chunks);
         return lane_mix<S, double, 8>(a, *plan.m, targets, bases, chunks);
       }
@@ -634,7 +635,7 @@ void apply_unitary_plan(S* a, unsigned n, const unitary_plan<S>& plan, std::uint
   if constexpr (scalar_traits<S>::is_complex) {
     if (plan.vector_kernel) {
 #ifdef QRM_HAS_CPU_DISPATCH
-      if constexpr (avx512_kernels) {
+      if constexpr (avx512_kernels && specialized_kernels) {
         if (plan.lane_path) {
           const std::uint64_t lanes = float_arithmetic<S>(ex) ? 7 : 3;
           const subspace bases(n, cmask | (tmask & ~lanes), cvalue);
@@ -650,7 +651,8 @@ void apply_unitary_plan(S* a, unsigned n, const unitary_plan<S>& plan, std::uint
       }
 #endif
       const csr_job<S> job = plan.job(a, n);
-      if (plan.grouped) return m.dim == 2 ? apply_grouped<S, 2>(job, s, ex) : apply_grouped<S, 4>(job, s, ex);
+      if constexpr (specialized_kernels)
+        if (plan.grouped) return m.dim == 2 ? apply_grouped<S, 2>(job, s, ex) : apply_grouped<S, 4>(job, s, ex);
 #ifdef QRM_HAS_CPU_DISPATCH
       // Float arithmetic (asked for, and a CPU with AVX2): eight neighbouring bases per 512-bit
       // register where the lowest 3 qubits are free, else four per 256-bit register (neighbours,
