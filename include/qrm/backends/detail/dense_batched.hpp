@@ -370,7 +370,8 @@ inline constexpr bool avx512_kernels = false;
 // same sums (over the same non-zero entries; the specialised forms add exact zeros, and sum an
 // offset set's entries in another order: results may differ by rounding). The README tour's
 // circuit at -O0 with g++ 12: 4.7 s -> 3.0 s (bench/RESULTS.md). QRM_ALL_KERNELS keeps every form
-// at -O0; QRM_FEWER_KERNELS drops them at any level (the test of this path).
+// at -O0; QRM_FEWER_KERNELS drops them at any level (the test of this path). A program that links
+// optimised and unoptimised units runs one of the two forms; both are correct.
 #if defined(QRM_FEWER_KERNELS) || (!defined(__OPTIMIZE__) && !defined(QRM_ALL_KERNELS))
 inline constexpr bool specialized_kernels = false;
 #else
@@ -430,7 +431,8 @@ template <unsigned N, class Vec>
 }
 
 // Applies the job at the bases that are members [k0, k1) of s, N bases per vector (see
-// base_groups), in the instructions of Isa, in arithmetic type A (double, or float for complex<float>). A complex product is two sums, A = sum re(m) x and B = sum im(m) x, and
+// base_groups), in the instructions of Isa, in arithmetic type A (double, or float for
+// complex<float>). A complex product is two sums, A = sum re(m) x and B = sum im(m) x, and
 // out = A + i B, where i B swaps each (re, im) pair and negates the new real part: one vector
 // per column instead of two. Everything it calls is inlined, so each ISA's copy below is
 // self-contained (a helper lambda would be compiled without the caller's ISA).
@@ -679,42 +681,43 @@ void csr_range_dim(const csr_job<S>& job, const subspace& s, const std::uint64_t
 }
 
 // Sparse matrices of 8 to 64 rows run at a fixed count of entries per row (see ell_width), dense
-// ones of 4, 8 or 16 rows with unrolled loops, the rest by row lists. `s` and `g` are a base_groups' bases and offsets.
+// ones of 4, 8 or 16 rows with unrolled loops (these forms only where specialized_kernels), the rest by
+// row lists. `s` and `g` are a base_groups' bases and offsets.
 template <class S, unsigned N, bool Contiguous, class A = double>
 void csr_range(const csr_job<S>& job, const subspace& s, const std::uint64_t* g, std::uint64_t k0, std::uint64_t k1) {
   if constexpr (specialized_kernels) {
-  if constexpr (Contiguous) {  // the fixed-width forms only where bases are neighbours (see csr_range_dim)
-    switch (job.ell_xor) {
-      case 0x03: return csr_range_dim<S, A, N, Contiguous, 8, 0, 0x03>(job, s, g, k0, k1);
-      case 0x05: return csr_range_dim<S, A, N, Contiguous, 8, 0, 0x05>(job, s, g, k0, k1);
-      case 0x11: return csr_range_dim<S, A, N, Contiguous, 8, 0, 0x11>(job, s, g, k0, k1);
-      case 0x33: return csr_range_dim<S, A, N, Contiguous, 8, 0, 0x33>(job, s, g, k0, k1);
-      default: break;
+    if constexpr (Contiguous) {  // the fixed-width forms only where bases are neighbours (see csr_range_dim)
+      switch (job.ell_xor) {
+        case 0x03: return csr_range_dim<S, A, N, Contiguous, 8, 0, 0x03>(job, s, g, k0, k1);
+        case 0x05: return csr_range_dim<S, A, N, Contiguous, 8, 0, 0x05>(job, s, g, k0, k1);
+        case 0x11: return csr_range_dim<S, A, N, Contiguous, 8, 0, 0x11>(job, s, g, k0, k1);
+        case 0x33: return csr_range_dim<S, A, N, Contiguous, 8, 0, 0x33>(job, s, g, k0, k1);
+        default: break;
+      }
+      switch (job.m->dim * 16 + job.ell_k) {
+        case 8 * 16 + 2: return csr_range_dim<S, A, N, Contiguous, 8, 2>(job, s, g, k0, k1);
+        case 8 * 16 + 4: return csr_range_dim<S, A, N, Contiguous, 8, 4>(job, s, g, k0, k1);
+        case 16 * 16 + 2: return csr_range_dim<S, A, N, Contiguous, 16, 2>(job, s, g, k0, k1);
+        case 16 * 16 + 4: return csr_range_dim<S, A, N, Contiguous, 16, 4>(job, s, g, k0, k1);
+        case 16 * 16 + 8: return csr_range_dim<S, A, N, Contiguous, 16, 8>(job, s, g, k0, k1);
+        case 32 * 16 + 2: return csr_range_dim<S, A, N, Contiguous, 32, 2>(job, s, g, k0, k1);
+        case 32 * 16 + 4: return csr_range_dim<S, A, N, Contiguous, 32, 4>(job, s, g, k0, k1);
+        case 32 * 16 + 8: return csr_range_dim<S, A, N, Contiguous, 32, 8>(job, s, g, k0, k1);
+        case 64 * 16 + 2: return csr_range_dim<S, A, N, Contiguous, 64, 2>(job, s, g, k0, k1);
+        case 64 * 16 + 4: return csr_range_dim<S, A, N, Contiguous, 64, 4>(job, s, g, k0, k1);
+        case 64 * 16 + 8: return csr_range_dim<S, A, N, Contiguous, 64, 8>(job, s, g, k0, k1);
+        default: break;
+      }
     }
-    switch (job.m->dim * 16 + job.ell_k) {
-      case 8 * 16 + 2: return csr_range_dim<S, A, N, Contiguous, 8, 2>(job, s, g, k0, k1);
-      case 8 * 16 + 4: return csr_range_dim<S, A, N, Contiguous, 8, 4>(job, s, g, k0, k1);
-      case 16 * 16 + 2: return csr_range_dim<S, A, N, Contiguous, 16, 2>(job, s, g, k0, k1);
-      case 16 * 16 + 4: return csr_range_dim<S, A, N, Contiguous, 16, 4>(job, s, g, k0, k1);
-      case 16 * 16 + 8: return csr_range_dim<S, A, N, Contiguous, 16, 8>(job, s, g, k0, k1);
-      case 32 * 16 + 2: return csr_range_dim<S, A, N, Contiguous, 32, 2>(job, s, g, k0, k1);
-      case 32 * 16 + 4: return csr_range_dim<S, A, N, Contiguous, 32, 4>(job, s, g, k0, k1);
-      case 32 * 16 + 8: return csr_range_dim<S, A, N, Contiguous, 32, 8>(job, s, g, k0, k1);
-      case 64 * 16 + 2: return csr_range_dim<S, A, N, Contiguous, 64, 2>(job, s, g, k0, k1);
-      case 64 * 16 + 4: return csr_range_dim<S, A, N, Contiguous, 64, 4>(job, s, g, k0, k1);
-      case 64 * 16 + 8: return csr_range_dim<S, A, N, Contiguous, 64, 8>(job, s, g, k0, k1);
-      default: break;
+    if (job.dense_re) {
+      switch (job.m->dim) {
+        case 2: return csr_range_dim<S, A, N, Contiguous, 2>(job, s, g, k0, k1);
+        case 4: return csr_range_dim<S, A, N, Contiguous, 4>(job, s, g, k0, k1);
+        case 8: return csr_range_dim<S, A, N, Contiguous, 8>(job, s, g, k0, k1);
+        case 16: return csr_range_dim<S, A, N, Contiguous, 16>(job, s, g, k0, k1);
+        default: break;
+      }
     }
-  }
-  if (job.dense_re) {
-    switch (job.m->dim) {
-      case 2: return csr_range_dim<S, A, N, Contiguous, 2>(job, s, g, k0, k1);
-      case 4: return csr_range_dim<S, A, N, Contiguous, 4>(job, s, g, k0, k1);
-      case 8: return csr_range_dim<S, A, N, Contiguous, 8>(job, s, g, k0, k1);
-      case 16: return csr_range_dim<S, A, N, Contiguous, 16>(job, s, g, k0, k1);
-      default: break;
-    }
-  }
   }
   csr_range_dim<S, A, N, Contiguous, 0>(job, s, g, k0, k1);
 }
