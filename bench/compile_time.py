@@ -10,8 +10,10 @@ includes exactly the standard headers that the qrm headers it reaches include (r
 compiler's dependency list), nothing else.
 
 Units: the umbrella <qrm/qrm.hpp> with an empty main; the README tour's typed circuit through
-only the headers it needs (circuit/compose, backends/dense, backends/measure); and
-examples/typed_walk.cpp at -O3 (time and peak memory).
+only the headers it needs (circuit/compose, backends/dense, backends/measure), header-only and
+with QRM_COMPILED_BACKENDS (the backends compiled once elsewhere in the program: the unit
+<qrm/backends/compiled_backends.hpp>, also timed, is that once); and examples/typed_walk.cpp at
+-O3 (time and peak memory), both ways.
 
 g++ collects garbage once its front end holds more than --param ggc-min-heapsize (128 MiB on
 a machine with this much memory): a unit just above that line pays one collection (~0.3 s for
@@ -110,10 +112,13 @@ def main():
     args = ap.parse_args()
 
     tmp = tempfile.mkdtemp(prefix="qrm-compile-time-")
-    units = {"umbrella": UMBRELLA, "tour_circuit": tour_circuit()}
+    separate = ["-DQRM_COMPILED_BACKENDS"]
+    units = {"umbrella": (UMBRELLA, []), "tour_circuit": (tour_circuit(), []),
+             "tour_circuit, QRM_COMPILED_BACKENDS": (tour_circuit(), separate),
+             "compiled_backends.hpp": ("#include <qrm/backends/compiled_backends.hpp>\n", [])}
     paths = {}
-    for name, text in units.items():
-        paths[name] = os.path.join(tmp, name + ".cpp")
+    for name, (text, _) in units.items():
+        paths[name] = os.path.join(tmp, re.sub(r"\W+", "_", name) + ".cpp")
         open(paths[name], "w").write(text)
 
     print(f"# Compile time, {datetime.date.today()}, {cpu_model()}, {os.cpu_count()} cores, load "
@@ -122,28 +127,30 @@ def main():
     print("|---|---|---|---|---|---|")
     for compiler in args.compilers.split(","):
         for name, path in paths.items():
-            twin_text, n = std_twin(compiler, path, [])
-            twin = os.path.join(tmp, name + "_std.cpp")
+            flags = units[name][1]
+            twin_text, n = std_twin(compiler, path, flags)
+            twin = path[:-4] + "_std.cpp"
             open(twin, "w").write(twin_text)
             best_q = best_s = float("inf")
             for _ in range(args.repeat):
-                best_q = min(best_q, compile_once(compiler, path, []))
+                best_q = min(best_q, compile_once(compiler, path, flags))
                 best_s = min(best_s, compile_once(compiler, twin, []))
-            heap = f"{gc_heap_kib(path, []) / 1024:.1f} MiB (line: 128 MiB)" if compiler == "g++" else ""
+            heap = f"{gc_heap_kib(path, flags) / 1024:.1f} MiB (line: 128 MiB)" if compiler == "g++" else ""
             print(f"| {version(compiler)} | {name} (-O0) | {best_q:.2f} s | {best_s:.2f} s ({n} headers) | "
                   f"**{best_q / best_s:.2f}x** | {heap} |")
-        if not args.no_typed_walk:
+        for flags in ([], separate) if not args.no_typed_walk else ():
             src = os.path.join(ROOT, "examples", "typed_walk.cpp")
             best, peak = float("inf"), 0.0
             for _ in range(max(1, args.repeat // 2)):
                 r = subprocess.run(["/usr/bin/time", "-f", "%e %M", compiler, "-std=c++20", "-O3", "-DNDEBUG",
-                                    "-I" + INCLUDE, "-c", src, "-o", os.devnull],
+                                    "-I" + INCLUDE, "-c", src, "-o", os.devnull] + flags,
                                    stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
                 if r.returncode != 0:
                     sys.exit("compile_time.py: typed_walk.cpp failed to compile:\n" + r.stderr[-2000:])
                 secs, kib = r.stderr.strip().splitlines()[-1].split()
                 best, peak = min(best, float(secs)), max(peak, int(kib) / 1024)
-            print(f"| {version(compiler)} | examples/typed_walk.cpp (-O3) | {best:.2f} s, {peak:.0f} MiB | | | |")
+            how = ", QRM_COMPILED_BACKENDS" if flags else ""
+            print(f"| {version(compiler)} | examples/typed_walk.cpp (-O3{how}) | {best:.2f} s, {peak:.0f} MiB | | | |")
 
 
 if __name__ == "__main__":

@@ -906,3 +906,18 @@ struct compact_backend {
 };
 
 }  // namespace qrm
+
+// The compact backend's part of <qrm/backends/compiled_backends.hpp> (QRM_COMPILED_BACKENDS): the
+// state classes of compact_backend and of `qrm simulate --scalar`.
+#define QRM_DETAIL_COMPACT_INSTANCES(PREFIX)                      \
+  PREFIX class compact_state<float>;                              \
+  PREFIX class compact_state<double>;                             \
+  PREFIX class compact_state<std::complex<float>>;                \
+  PREFIX class compact_state<std::complex<double>>;               \
+  PREFIX class compact_state<std::complex<double>, wide_label<2>>;
+
+#ifdef QRM_COMPILED_BACKENDS
+namespace qrm {
+QRM_DETAIL_COMPACT_INSTANCES(extern template)
+}  // namespace qrm
+#endif

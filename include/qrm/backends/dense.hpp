@@ -269,3 +269,35 @@ struct dense_backend {
 };
 
 }  // namespace qrm
+
+// The dense backend's part of <qrm/backends/compiled_backends.hpp> (QRM_COMPILED_BACKENDS): the
+// state classes and the six functions every kernel a state_vector runs is reached from. PREFIX is
+// `extern template` or `template`, expanded in namespace qrm.
+#define QRM_DETAIL_DENSE_INSTANCES_FOR(PREFIX, S)                                                                   \
+  PREFIX class state_vector<S>;                                                                                     \
+  PREFIX void detail::kernel_gate1<S>(S*, unsigned, const gate1&, unsigned, std::uint64_t, std::uint64_t,           \
+                                      const detail::exec_policy&);                                                  \
+  PREFIX void detail::kernel_unitary<S>(S*, unsigned, const dense_matrix&, std::span<const qubit_index>,            \
+                                        std::uint64_t, std::uint64_t, std::uint64_t, const detail::exec_policy&);   \
+  PREFIX void detail::kernel_add<S>(S*, unsigned, std::int64_t, std::span<const qubit_index>, std::uint64_t,        \
+                                    std::uint64_t, std::uint64_t, const detail::exec_policy&);                      \
+  PREFIX void detail::kernel_mux1<S>(S*, unsigned, std::span<const mux1_entry>, unsigned,                           \
+                                     std::span<const qubit_index>, std::uint64_t, std::uint64_t, std::uint64_t,     \
+                                     const detail::exec_policy&);                                                   \
+  PREFIX void detail::kernel_mux_unitary<S>(S*, unsigned, std::span<const dense_matrix>,                            \
+                                            std::span<const mux_unitary_entry>, std::span<const qubit_index>,       \
+                                            std::uint64_t, std::span<const qubit_index>, std::uint64_t,             \
+                                            std::uint64_t, std::uint64_t, const detail::exec_policy&);              \
+  PREFIX void detail::run_in_chunks<S>(S*, unsigned, std::span<const op::any>, std::span<const std::size_t>,        \
+                                       std::uint64_t, const detail::exec_policy&);
+#define QRM_DETAIL_DENSE_INSTANCES(PREFIX)                  \
+  QRM_DETAIL_DENSE_INSTANCES_FOR(PREFIX, float)             \
+  QRM_DETAIL_DENSE_INSTANCES_FOR(PREFIX, double)            \
+  QRM_DETAIL_DENSE_INSTANCES_FOR(PREFIX, std::complex<float>) \
+  QRM_DETAIL_DENSE_INSTANCES_FOR(PREFIX, std::complex<double>)
+
+#ifdef QRM_COMPILED_BACKENDS
+namespace qrm {
+QRM_DETAIL_DENSE_INSTANCES(extern template)
+}  // namespace qrm
+#endif
