@@ -2,9 +2,10 @@
 // source files are compiled with QRM_COMPILED_BACKENDS defined. This file then compiles both
 // backends (the state classes for float, double, std::complex<float> and std::complex<double>,
 // and the dense kernels) and the others call them instead of compiling their own copies: a
-// source file that runs the backends compiles in about half the time (README, "Build time").
-// Without the macro a program needs no such file and the library stays header-only. Compile it
-// with the options the rest of the program uses (optimisation, QRM_NO_AVX512, QRM_FEWER_KERNELS).
+// source file that runs the backends compiles in about half the time (README, "Compiling the
+// backends once"). Without the macro a program needs no such file and the library stays
+// header-only. Compile this file with the options the rest of the program uses (optimisation,
+// QRM_NO_AVX512, QRM_FEWER_KERNELS).
 #pragma once
 
 #include "compact.hpp"
