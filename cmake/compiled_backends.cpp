@@ -1,2 +1,2 @@
-// qrm's backends, compiled once for qrm's own programs (CMakeLists.txt: qrm_compiled_backends).
+// qrm's backends, compiled once for qrm's own programs (CMakeLists.txt: qrm_compiled).
 #include <qrm/backends/compiled_backends.hpp>

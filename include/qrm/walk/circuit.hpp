@@ -113,7 +113,7 @@ inline gate1 sample_rotation(double v) {
 
 // build_walk_tables(model, start, options): coins, samples and path terms for one start point.
 template <int Deferred = 0>
-inline walk_tables build_walk_tables(const walk_model& m, const walk_start& start, const walk_options& o) {
+walk_tables build_walk_tables(const walk_model& m, const walk_start& start, const walk_options& o) {
   using detail::deferred;
   if (o.channel < 0 || o.channel > 2) throw std::invalid_argument("walk: channel must be 0, 1 or 2");
   if (o.steps < 1 || o.steps > 64) throw std::invalid_argument("walk: steps must be in [1, 64], got " + std::to_string(o.steps));
@@ -521,7 +521,7 @@ class ray_marching_circuit : public walk_circuit<walk_shape<Dims, PosBits, DirBi
 // remove_idle_qubits(p): p without the qubits no op touches, renumbered in order; `kept[i]` is
 // the original index of new qubit i.
 template <int = 0>
-inline program remove_idle_qubits(const program& p, std::vector<qubit_index>* kept = nullptr) {
+program remove_idle_qubits(const program& p, std::vector<qubit_index>* kept = nullptr) {
   std::vector<bool> used(p.width(), false);
   for (const op::any& o : p.ops())
     for (qubit_index q : op_qubits(o)) used[q] = true;
@@ -656,3 +656,13 @@ double probability_out(Backend& b, const walk_program& w) {
 }
 
 }  // namespace qrm
+
+// This header's part of <qrm/walk/compiled_walk.hpp> (QRM_COMPILED_WALK).
+#define QRM_DETAIL_WALK_CIRCUIT_INSTANCES(PREFIX)                                                     \
+  PREFIX walk_tables build_walk_tables<0>(const walk_model&, const walk_start&, const walk_options&); \
+  PREFIX program remove_idle_qubits<0>(const program&, std::vector<qubit_index>*);
+#ifdef QRM_COMPILED_WALK
+namespace qrm {
+QRM_DETAIL_WALK_CIRCUIT_INSTANCES(extern template)
+}  // namespace qrm
+#endif

@@ -21,7 +21,7 @@ namespace qrm {
 
 // path_sum(model, start, steps, channel): E[f], exactly.
 template <int = 0>
-inline double path_sum(const walk_model& m, const walk_start& start, unsigned steps, int channel) {
+double path_sum(const walk_model& m, const walk_start& start, unsigned steps, int channel) {
   std::map<walk_state, double> weight;  // probability times prod of rho sampled so far
   for (const auto& [w, a] : m.initial_states(start)) weight[w] += std::norm(a);
   double expected = 0;
@@ -43,7 +43,7 @@ inline double path_sum(const walk_model& m, const walk_start& start, unsigned st
 
 // path_sum_enumerated(...): the same sum, one path at a time (D * branching^s paths).
 template <int = 0>
-inline double path_sum_enumerated(const walk_model& m, const walk_start& start, unsigned steps, int channel) {
+double path_sum_enumerated(const walk_model& m, const walk_start& start, unsigned steps, int channel) {
   double total = 0;
   auto walk = [&](auto&& self, const walk_state& w, unsigned i, double prob, double prefix, double f) -> void {
     if (i == steps) {
@@ -69,7 +69,7 @@ struct monte_carlo_estimate {
 // monte_carlo(model, start, steps, channel, paths, g): the random walk with the same
 // transition probabilities; mean of f over `paths` samples and its standard error.
 template <int = 0>
-inline monte_carlo_estimate monte_carlo(const walk_model& m, const walk_start& start, unsigned steps, int channel,
+monte_carlo_estimate monte_carlo(const walk_model& m, const walk_start& start, unsigned steps, int channel,
                                         std::uint64_t paths, rng& g) {
   if (paths == 0) throw std::invalid_argument("monte_carlo: paths must be positive");
   const auto init = m.initial_states(start);
@@ -105,3 +105,14 @@ inline monte_carlo_estimate monte_carlo(const walk_model& m, const walk_start& s
 }
 
 }  // namespace qrm
+
+// This header's part of <qrm/walk/compiled_walk.hpp> (QRM_COMPILED_WALK).
+#define QRM_DETAIL_CLASSICAL_INSTANCES(PREFIX)                                                                          \
+  PREFIX double path_sum<0>(const walk_model&, const walk_start&, unsigned, int);                                       \
+  PREFIX double path_sum_enumerated<0>(const walk_model&, const walk_start&, unsigned, int);                            \
+  PREFIX monte_carlo_estimate monte_carlo<0>(const walk_model&, const walk_start&, unsigned, int, std::uint64_t, rng&);
+#ifdef QRM_COMPILED_WALK
+namespace qrm {
+QRM_DETAIL_CLASSICAL_INSTANCES(extern template)
+}  // namespace qrm
+#endif

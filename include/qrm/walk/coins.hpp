@@ -36,7 +36,7 @@ namespace qrm {
 
 // lambertian_coin_2d(n): the paper's 8x8 Lambertian coin for normal index n (the authors' +-1/2 matrix).
 template <int = 0>
-inline dense_matrix lambertian_coin_2d(int n) {
+dense_matrix lambertian_coin_2d(int n) {
   if (n < 0 || n > 7) throw std::invalid_argument("lambertian_coin_2d: normal index must be 0..7, got " + std::to_string(n));
   auto mod8 = [](int v) { return ((v % 8) + 8) % 8; };
   const int par[2] = {mod8(n + 2), mod8(n - 2)};
@@ -89,7 +89,7 @@ inline dense_matrix lambertian_coin_2d(int n) {
 // to n-1 (n+5: the mirror image). The incoming columns fill the outgoing subspace, so outgoing inputs
 // go back into the surface through G^T = G, (n-1, n, n+1) -> (n+5, n+4, n+3); tangent n+-2 stay put.
 template <int = 0>
-inline dense_matrix lambertian_coin_2d_symmetric(int n) {
+dense_matrix lambertian_coin_2d_symmetric(int n) {
   if (n < 0 || n > 7)
     throw std::invalid_argument("lambertian_coin_2d_symmetric: normal index must be 0..7, got " + std::to_string(n));
   auto dir = [n](int k) { return static_cast<std::size_t>(((n + k) % 8 + 8) % 8); };
@@ -175,7 +175,7 @@ inline dense_matrix permutation_coin(const std::vector<std::size_t>& perm, std::
 
 // boundary_coin(s): reverse every direction (d -> the direction nearest -d, as a permutation).
 template <int = 0>
-inline dense_matrix boundary_coin(const direction_set& s) {
+dense_matrix boundary_coin(const direction_set& s) {
   const auto reversed = detail::image_of(s, [](const vec3& v) { return vec3{-v[0], -v[1], -v[2]}; });
   const auto perm = detail::snap_permutation(s, reversed);
   return detail::permutation_coin(perm, std::size_t{1} << s.bits());
@@ -193,7 +193,7 @@ struct lambertian_split {
 // ones first, then the least incoming) are counted as outgoing until it balances. That is
 // reported in grazing_counted_outgoing; antipodal sets never need it.
 template <int = 0>
-inline lambertian_split split_hemisphere(const direction_set& s, const vec3& normal) {
+lambertian_split split_hemisphere(const direction_set& s, const vec3& normal) {
   const vec3 n = normalized(normal);
   constexpr double eps = 1e-9;
   lambertian_split r;
@@ -230,7 +230,7 @@ inline lambertian_split split_hemisphere(const direction_set& s, const vec3& nor
 // directions take the remaining orthonormal columns (Gram-Schmidt in index order), as the 2D
 // coin sends outgoing directions back into the surface to stay unitary.
 template <int = 0>
-inline dense_matrix lambertian_coin(const direction_set& s, const vec3& normal) {
+dense_matrix lambertian_coin(const direction_set& s, const vec3& normal) {
   const lambertian_split sp = split_hemisphere(s, normal);
   const std::size_t dim = std::size_t{1} << s.bits();
   const std::size_t m = sp.outgoing.size();
@@ -309,7 +309,7 @@ inline dense_matrix lambertian_coin(const direction_set& s, const vec3& normal) 
 // Where the set is closed under the mirror (cube sets with axis normals; the 2D king moves
 // with any of their 8 normals), every pair at distance 0 is taken first: the exact reflection.
 template <int = 0>
-inline std::vector<std::size_t> specular_permutation(const direction_set& s, const vec3& normal) {
+std::vector<std::size_t> specular_permutation(const direction_set& s, const vec3& normal) {
   const vec3 n = normalized(normal);
   const std::vector<vec3> mirror = detail::image_of(s, [&](const vec3& v) {
     const double k = 2.0 * dot(v, n);
@@ -340,7 +340,7 @@ struct symmetric_eigen {
   std::vector<double> vectors;  // column k is the eigenvector of values[k]; row-major n x n
 };
 template <int = 0>
-inline symmetric_eigen jacobi_eigen(std::vector<double> a, std::size_t n) {
+symmetric_eigen jacobi_eigen(std::vector<double> a, std::size_t n) {
   std::vector<double> v(n * n, 0.0);
   for (std::size_t i = 0; i < n; ++i) v[i * n + i] = 1.0;
   for (int sweep = 0; sweep < 100; ++sweep) {
@@ -415,7 +415,7 @@ inline double neighbour_angle(const direction_set& s) {
 // 1, 2, 3, 4; cube-26 0.92, 0.74, 0.52, 0.34. Beyond 4 the wave on the finite hemisphere starts
 // to come back towards the mirror direction, so the lobe would narrow again.
 template <int = 0>
-inline dense_matrix glossy_coin(const direction_set& s, const vec3& normal, double tau) {
+dense_matrix glossy_coin(const direction_set& s, const vec3& normal, double tau) {
   if (!(tau >= 0.0 && tau <= glossy_lobe_max))
     throw std::invalid_argument("glossy_coin: lobe parameter must be in [0, " + std::to_string(glossy_lobe_max) +
                                 "], got " + std::to_string(tau));
@@ -492,7 +492,7 @@ inline std::pair<unsigned, unsigned> prime_power(unsigned q) {
 // coefficients of a polynomial mod a monic irreducible of degree k, found by search: the first
 // monic polynomial under which every nonzero element has an inverse).
 template <int = 0>
-inline std::vector<int> quadratic_character(unsigned p, unsigned k) {
+std::vector<int> quadratic_character(unsigned p, unsigned k) {
   unsigned q = 1;
   for (unsigned i = 0; i < k; ++i) q *= p;
   auto digits = [&](unsigned a) {
@@ -532,7 +532,7 @@ inline std::vector<int> quadratic_character(unsigned p, unsigned k) {
 }
 
 template <int = 0>
-inline conference_matrix make_conference_matrix(std::size_t n) {
+conference_matrix make_conference_matrix(std::size_t n) {
   conference_matrix r;
   if (n < 2) return r;
   const auto pk = prime_power(static_cast<unsigned>(n - 1));
@@ -611,7 +611,7 @@ inline double medium_isotropic_limit(std::size_t count) {
 //     throws (use an even set).
 // p = 0 is the identity exactly. Register states beyond D are left alone.
 template <int = 0>
-inline dense_matrix medium_coin(const direction_set& s, double density) {
+dense_matrix medium_coin(const direction_set& s, double density) {
   const std::size_t D = s.size(), dim = std::size_t{1} << s.bits();
   if (!(density >= 0.0 && density <= 1.0))
     throw std::invalid_argument("medium_coin: density must be in [0, 1], got " + std::to_string(density));
@@ -645,3 +645,22 @@ inline dense_matrix medium_coin(const direction_set& s, double density) {
 }
 
 }  // namespace qrm
+
+// This header's part of <qrm/walk/compiled_walk.hpp> (QRM_COMPILED_WALK).
+#define QRM_DETAIL_COINS_INSTANCES(PREFIX)                                                    \
+  PREFIX dense_matrix lambertian_coin_2d<0>(int);                                             \
+  PREFIX dense_matrix lambertian_coin_2d_symmetric<0>(int);                                   \
+  PREFIX dense_matrix boundary_coin<0>(const direction_set&);                                 \
+  PREFIX lambertian_split split_hemisphere<0>(const direction_set&, const vec3&);             \
+  PREFIX dense_matrix lambertian_coin<0>(const direction_set&, const vec3&);                  \
+  PREFIX std::vector<std::size_t> specular_permutation<0>(const direction_set&, const vec3&); \
+  PREFIX detail::symmetric_eigen detail::jacobi_eigen<0>(std::vector<double>, std::size_t);   \
+  PREFIX dense_matrix glossy_coin<0>(const direction_set&, const vec3&, double);              \
+  PREFIX std::vector<int> detail::quadratic_character<0>(unsigned, unsigned);                 \
+  PREFIX detail::conference_matrix detail::make_conference_matrix<0>(std::size_t);            \
+  PREFIX dense_matrix medium_coin<0>(const direction_set&, double);
+#ifdef QRM_COMPILED_WALK
+namespace qrm {
+QRM_DETAIL_COINS_INSTANCES(extern template)
+}  // namespace qrm
+#endif

@@ -87,7 +87,7 @@ inline std::size_t shift_pairs(const direction_set& dirs) {
 // unpruned_walk_depth(model, start, steps, variant): the closed form of the header comment for
 // the logical depth of make_walk_program(model, start, {steps, variant, pruning::none}).
 template <int = 0>
-inline std::size_t unpruned_walk_depth(const walk_model& m, const walk_start& start, unsigned steps,
+std::size_t unpruned_walk_depth(const walk_model& m, const walk_start& start, unsigned steps,
                                        walk_variant variant) {
   if (steps < 1) throw std::invalid_argument("unpruned_walk_depth: steps must be at least 1");
   const std::size_t d = m.direction_count();
@@ -126,7 +126,7 @@ inline walk_layer recorded_walk_layer(const program& p, std::size_t i) {
 
 // walk_layer_programs(p): p's ops split by the layer each was recorded in (indexed by walk_layer).
 template <int = 0>
-inline std::array<program, 6> walk_layer_programs(const program& p) {
+std::array<program, 6> walk_layer_programs(const program& p) {
   std::array<program, 6> parts;
   for (program& part : parts) part = program(p.width());
   for (std::size_t i = 0; i < p.ops().size(); ++i)
@@ -136,7 +136,7 @@ inline std::array<program, 6> walk_layer_programs(const program& p) {
 
 // walk_layers(p): depth and gate count of each layer of a walk program on its own.
 template <int = 0>
-inline walk_layer_metrics walk_layers(const program& p) {
+walk_layer_metrics walk_layers(const program& p) {
   const std::array<program, 6> parts = walk_layer_programs(p);
   walk_layer_metrics r;
   for (std::size_t i = 0; i < parts.size(); ++i) {
@@ -148,3 +148,14 @@ inline walk_layer_metrics walk_layers(const program& p) {
 }
 
 }  // namespace qrm
+
+// This header's part of <qrm/walk/compiled_walk.hpp> (QRM_COMPILED_WALK).
+#define QRM_DETAIL_COST_INSTANCES(PREFIX)                                                                  \
+  PREFIX std::size_t unpruned_walk_depth<0>(const walk_model&, const walk_start&, unsigned, walk_variant); \
+  PREFIX std::array<program, 6> walk_layer_programs<0>(const program&);                                    \
+  PREFIX walk_layer_metrics walk_layers<0>(const program&);
+#ifdef QRM_COMPILED_WALK
+namespace qrm {
+QRM_DETAIL_COST_INSTANCES(extern template)
+}  // namespace qrm
+#endif

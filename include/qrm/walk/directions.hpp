@@ -63,7 +63,7 @@ inline void add_displacements(direction_set& s) {
 
 // golden_spiral(D, F): D directions on the golden spiral (z from 1 - 1/D down to -1 + 1/D).
 template <int = 0>
-inline direction_set golden_spiral(std::size_t count, unsigned fractional_bits = 3) {
+direction_set golden_spiral(std::size_t count, unsigned fractional_bits = 3) {
   if (count < 2 || count > 1024)
     throw std::invalid_argument("golden_spiral: direction count must be in [2, 1024], got " + std::to_string(count));
   direction_set s;
@@ -84,7 +84,7 @@ inline direction_set golden_spiral(std::size_t count, unsigned fractional_bits =
 // antipodal_spiral(D, F): D/2 golden-spiral directions of the upper hemisphere and their
 // opposites (D even), so every direction can be reversed exactly.
 template <int = 0>
-inline direction_set antipodal_spiral(std::size_t count, unsigned fractional_bits = 3) {
+direction_set antipodal_spiral(std::size_t count, unsigned fractional_bits = 3) {
   if (count < 2 || count % 2 != 0 || count > 1024)
     throw std::invalid_argument("antipodal_spiral: direction count must be even and in [2, 1024], got " +
                                 std::to_string(count));
@@ -100,7 +100,7 @@ inline direction_set antipodal_spiral(std::size_t count, unsigned fractional_bit
 
 // cube_directions(D, F): D = 6 (axes), 14 (axes and cube diagonals) or 26 (all king moves).
 template <int = 0>
-inline direction_set cube_directions(std::size_t count, unsigned fractional_bits = 3) {
+direction_set cube_directions(std::size_t count, unsigned fractional_bits = 3) {
   if (count != 6 && count != 14 && count != 26)
     throw std::invalid_argument("cube_directions: count must be 6, 14 or 26, got " + std::to_string(count));
   direction_set s;
@@ -127,3 +127,14 @@ inline direction_set sphere_directions(std::size_t count, unsigned fractional_bi
 }
 
 }  // namespace qrm
+
+// This header's part of <qrm/walk/compiled_walk.hpp> (QRM_COMPILED_WALK).
+#define QRM_DETAIL_DIRECTIONS_INSTANCES(PREFIX)                    \
+  PREFIX direction_set golden_spiral<0>(std::size_t, unsigned);    \
+  PREFIX direction_set antipodal_spiral<0>(std::size_t, unsigned); \
+  PREFIX direction_set cube_directions<0>(std::size_t, unsigned);
+#ifdef QRM_COMPILED_WALK
+namespace qrm {
+QRM_DETAIL_DIRECTIONS_INSTANCES(extern template)
+}  // namespace qrm
+#endif

@@ -57,44 +57,7 @@ class walk_model {
   // (A constructor template, so that the coin builders are compiled only where a walk is made.)
   // The march: `march` if given, else the scene's own, else the paper's voxel march.
   template <int = 0>
-  walk_model(scene s_in, direction_set dirs, std::optional<march_mode> march = std::nullopt)
-      : scene_(std::make_shared<const scene>(std::move(s_in))), dirs_(std::move(dirs)) {
-    march_ = march.value_or(scene_->march().value_or(march_mode::voxel));
-    const scene& s = *scene_;
-    s.validate();
-    if (dirs_.dims != s.dims())
-      throw std::invalid_argument("walk_model: a " + std::to_string(dirs_.dims) + "D direction set for a " +
-                                  std::to_string(s.dims()) + "D scene");
-    if (s.dims() == 2 && dirs_.fractional_bits != 0)
-      throw std::invalid_argument("walk_model: 2D walks move whole cells (0 fractional bits)");
-    coin_of_voxel_.assign(s.voxel_count(), -1);
-    // Voxels with equal coin parameters share one coin. The key is an array, not a tuple: a
-    // 7-tuple's comparison operators cost the umbrella header ~1 MiB of g++'s heap.
-    std::map<std::array<double, 7>, int> seen;
-    for (std::size_t i = 0; i < s.voxel_count(); ++i) {
-      const voxel& v = s[i];
-      if (v.kind == material::air) continue;
-      const std::array<double, 7> key = {static_cast<double>(v.kind), v.normal[0], v.normal[1], v.normal[2],
-                                         static_cast<double>(v.normal_index), v.lobe, v.density};
-      auto it = seen.find(key);
-      if (it == seen.end()) {
-        it = seen.emplace(key, static_cast<int>(coins_.size())).first;
-        coins_.push_back(make_coin(v));
-        coin_kinds_.push_back(v.kind);
-      }
-      coin_of_voxel_[i] = it->second;
-    }
-    // The longest march: enough displacements to cross the grid along the slowest direction's
-    // largest component (a march that finds no surface by then stops in air).
-    const std::uint64_t axis_length = std::uint64_t{s.size()} << dirs_.fractional_bits;
-    march_limit_ = 1;
-    for (const auto& d : dirs_.displacement) {
-      std::uint64_t largest = 0;
-      for (unsigned a = 0; a < s.dims(); ++a) largest = std::max<std::uint64_t>(largest, static_cast<std::uint64_t>(std::llabs(d[a])));
-      march_limit_ = std::max(march_limit_, (axis_length + largest - 1) / largest);
-    }
-    distance_bits_ = march_ == march_mode::surface ? static_cast<unsigned>(bits_for(march_limit_ + 1)) : 0;
-  }
+  walk_model(scene s_in, direction_set dirs, std::optional<march_mode> march = std::nullopt);
 
   const scene& scene_data() const { return *scene_; }
   const direction_set& directions() const { return dirs_; }
@@ -270,4 +233,54 @@ class walk_model {
   unsigned distance_bits_ = 0;
 };
 
+template <int Deferred>
+walk_model::walk_model(scene s_in, direction_set dirs, std::optional<march_mode> march)
+    : scene_(std::make_shared<const scene>(std::move(s_in))), dirs_(std::move(dirs)) {
+  march_ = march.value_or(scene_->march().value_or(march_mode::voxel));
+  const scene& s = *scene_;
+  s.validate();
+  if (dirs_.dims != s.dims())
+    throw std::invalid_argument("walk_model: a " + std::to_string(dirs_.dims) + "D direction set for a " +
+                                std::to_string(s.dims()) + "D scene");
+  if (s.dims() == 2 && dirs_.fractional_bits != 0)
+    throw std::invalid_argument("walk_model: 2D walks move whole cells (0 fractional bits)");
+  coin_of_voxel_.assign(s.voxel_count(), -1);
+  // Voxels with equal coin parameters share one coin. The key is an array, not a tuple: a
+  // 7-tuple's comparison operators cost the umbrella header ~1 MiB of g++'s heap.
+  std::map<std::array<double, 7>, int> seen;
+  for (std::size_t i = 0; i < s.voxel_count(); ++i) {
+    const voxel& v = s[i];
+    if (v.kind == material::air) continue;
+    const std::array<double, 7> key = {static_cast<double>(v.kind), v.normal[0], v.normal[1], v.normal[2],
+                                       static_cast<double>(v.normal_index), v.lobe, v.density};
+    auto it = seen.find(key);
+    if (it == seen.end()) {
+      it = seen.emplace(key, static_cast<int>(coins_.size())).first;
+      coins_.push_back(make_coin(v));
+      coin_kinds_.push_back(v.kind);
+    }
+    coin_of_voxel_[i] = it->second;
+  }
+  // The longest march: enough displacements to cross the grid along the slowest direction's
+  // largest component (a march that finds no surface by then stops in air).
+  const std::uint64_t axis_length = std::uint64_t{s.size()} << dirs_.fractional_bits;
+  march_limit_ = 1;
+  for (const auto& d : dirs_.displacement) {
+    std::uint64_t largest = 0;
+    for (unsigned a = 0; a < s.dims(); ++a) largest = std::max<std::uint64_t>(largest, static_cast<std::uint64_t>(std::llabs(d[a])));
+    march_limit_ = std::max(march_limit_, (axis_length + largest - 1) / largest);
+  }
+  distance_bits_ = march_ == march_mode::surface ? static_cast<unsigned>(bits_for(march_limit_ + 1)) : 0;
+}
+
+
 }  // namespace qrm
+
+// This header's part of <qrm/walk/compiled_walk.hpp> (QRM_COMPILED_WALK).
+#define QRM_DETAIL_MODEL_INSTANCES(PREFIX)                                        \
+  PREFIX walk_model::walk_model(scene, direction_set, std::optional<march_mode>);
+#ifdef QRM_COMPILED_WALK
+namespace qrm {
+QRM_DETAIL_MODEL_INSTANCES(extern template)
+}  // namespace qrm
+#endif

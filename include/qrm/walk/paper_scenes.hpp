@@ -55,7 +55,7 @@ scene paper_scene(const char* name, const paper_cell (&kinds)[N][N], const rgb (
 
 // paper_8x8(): the 8x8 scene of the paper's Fig. 4.
 template <int = 0>
-inline scene paper_8x8() {
+scene paper_8x8() {
   using namespace detail::paper_table;
   static constexpr detail::paper_cell kinds[8][8] = {
       {B3, L4,  L4,  L4,  L4,  L4,  L4,  B5},
@@ -89,7 +89,7 @@ inline scene paper_8x8() {
 
 // paper_4x4(): the paper's small 4x4 scene.
 template <int = 0>
-inline scene paper_4x4() {
+scene paper_4x4() {
   using namespace detail::paper_table;
   static constexpr detail::paper_cell kinds[4][4] = {
       {B3, L4,  L4,  B5},
@@ -113,7 +113,7 @@ inline scene paper_4x4() {
 // corners, Lambertian walls facing inward (grey, red right wall, green top wall), two lights on
 // the top wall and one on the left wall, and a Lambertian block in the middle.
 template <int = 0>
-inline scene box_2d(unsigned n) {
+scene box_2d(unsigned n) {
   if (n < 4) throw std::invalid_argument("box_2d: size must be at least 4, got " + std::to_string(n));
   scene s("box_" + std::to_string(n), 2, n);
   const rgb grey{0.75, 0.75, 0.75}, red{0.5, 0, 0}, green{0, 0.5, 0}, white{1, 1, 1};
@@ -147,10 +147,22 @@ inline scene box_2d(unsigned n) {
 
 // builtin_scene(name): paper_4x4 or paper_8x8 (the 3D scenes live with the renderer).
 template <int = 0>
-inline scene builtin_2d_scene(const std::string& name) {
+scene builtin_2d_scene(const std::string& name) {
   if (name == "paper_8x8") return paper_8x8();
   if (name == "paper_4x4") return paper_4x4();
   throw std::invalid_argument("unknown built-in scene '" + name + "' (paper_4x4, paper_8x8)");
 }
 
 }  // namespace qrm
+
+// This header's part of <qrm/walk/compiled_walk.hpp> (QRM_COMPILED_WALK).
+#define QRM_DETAIL_PAPER_SCENES_INSTANCES(PREFIX)       \
+  PREFIX scene paper_8x8<0>();                          \
+  PREFIX scene paper_4x4<0>();                          \
+  PREFIX scene box_2d<0>(unsigned);                     \
+  PREFIX scene builtin_2d_scene<0>(const std::string&);
+#ifdef QRM_COMPILED_WALK
+namespace qrm {
+QRM_DETAIL_PAPER_SCENES_INSTANCES(extern template)
+}  // namespace qrm
+#endif

@@ -199,34 +199,7 @@ class scene {
   // voxel and the message is built only for the one that fails: building the voxel's name for each
   // voxel cost 0.93 s on an empty 256^3 scene (0.06 s without; AMD EPYC VM, 2026-12-04).
   template <int = 0>
-  void validate() const {
-    for (std::size_t i = 0; i < voxels_.size(); ++i) {
-      const voxel& v = voxels_[i];
-      for (int ch = 0; ch < 3; ++ch) {
-        const double r = v.reflectance[ch], e = v.emission[ch];
-        if (!(r >= 0.0 && r <= 1.0))
-          invalid_voxel(i, "reflectance " + std::to_string(r) + " outside [0, 1] in channel " + "RGB"[ch]);
-        if (!(e >= 0.0) || !std::isfinite(e))
-          invalid_voxel(i, "emission " + std::to_string(e) + " must be finite and >= 0 in channel " + "RGB"[ch]);
-      }
-      if (v.kind == material::glossy ? !(v.lobe >= 0.0 && v.lobe <= glossy_lobe_max) : v.lobe != 0.0)
-        invalid_voxel(i, "lobe " + std::to_string(v.lobe) +
-                             (v.kind == material::glossy
-                                  ? " outside [0, " + std::to_string(static_cast<int>(glossy_lobe_max)) + "] (the glossy lobe parameter)"
-                                  : " on a " + std::string(material_name(v.kind)) + " voxel (only glossy voxels have a lobe)"));
-      if (v.kind == material::medium ? !(v.density >= 0.0 && v.density <= 1.0) : v.density != 0.0)
-        invalid_voxel(i, "density " + std::to_string(v.density) +
-                             (v.kind == material::medium
-                                  ? " outside [0, 1] (the medium's scattering probability)"
-                                  : " on a voxel of kind " + std::string(material_name(v.kind)) + " (only medium voxels have a density)"));
-      if (v.kind == material::air || v.kind == material::medium) continue;  // no normal
-      if (dims_ == 2 && (v.normal_index < 0 || v.normal_index > 7))
-        invalid_voxel(i, "a " + std::string(material_name(v.kind)) + " voxel needs a normal index 0..7, got " +
-                             std::to_string(v.normal_index));
-      if (dims_ == 3 && !(std::abs(norm(v.normal) - 1.0) < 1e-9))
-        invalid_voxel(i, "a " + std::string(material_name(v.kind)) + " voxel needs a unit normal");
-    }
-  }
+  void validate() const;
 
  private:
   // "scene 'NAME': voxel (x, y)" or "(x, y, z)": how errors name a voxel.
@@ -249,4 +222,43 @@ class scene {
   lambertian_2d lambertian_ = lambertian_2d::paper;
 };
 
+template <int Deferred>
+void scene::validate() const {
+  for (std::size_t i = 0; i < voxels_.size(); ++i) {
+    const voxel& v = voxels_[i];
+    for (int ch = 0; ch < 3; ++ch) {
+      const double r = v.reflectance[ch], e = v.emission[ch];
+      if (!(r >= 0.0 && r <= 1.0))
+        invalid_voxel(i, "reflectance " + std::to_string(r) + " outside [0, 1] in channel " + "RGB"[ch]);
+      if (!(e >= 0.0) || !std::isfinite(e))
+        invalid_voxel(i, "emission " + std::to_string(e) + " must be finite and >= 0 in channel " + "RGB"[ch]);
+    }
+    if (v.kind == material::glossy ? !(v.lobe >= 0.0 && v.lobe <= glossy_lobe_max) : v.lobe != 0.0)
+      invalid_voxel(i, "lobe " + std::to_string(v.lobe) +
+                           (v.kind == material::glossy
+                                ? " outside [0, " + std::to_string(static_cast<int>(glossy_lobe_max)) + "] (the glossy lobe parameter)"
+                                : " on a " + std::string(material_name(v.kind)) + " voxel (only glossy voxels have a lobe)"));
+    if (v.kind == material::medium ? !(v.density >= 0.0 && v.density <= 1.0) : v.density != 0.0)
+      invalid_voxel(i, "density " + std::to_string(v.density) +
+                           (v.kind == material::medium
+                                ? " outside [0, 1] (the medium's scattering probability)"
+                                : " on a voxel of kind " + std::string(material_name(v.kind)) + " (only medium voxels have a density)"));
+    if (v.kind == material::air || v.kind == material::medium) continue;  // no normal
+    if (dims_ == 2 && (v.normal_index < 0 || v.normal_index > 7))
+      invalid_voxel(i, "a " + std::string(material_name(v.kind)) + " voxel needs a normal index 0..7, got " +
+                           std::to_string(v.normal_index));
+    if (dims_ == 3 && !(std::abs(norm(v.normal) - 1.0) < 1e-9))
+      invalid_voxel(i, "a " + std::string(material_name(v.kind)) + " voxel needs a unit normal");
+  }
+}
+
 }  // namespace qrm
+
+// This header's part of <qrm/walk/compiled_walk.hpp> (QRM_COMPILED_WALK).
+#define QRM_DETAIL_SCENE_INSTANCES(PREFIX) \
+  PREFIX void scene::validate<0>() const;
+#ifdef QRM_COMPILED_WALK
+namespace qrm {
+QRM_DETAIL_SCENE_INSTANCES(extern template)
+}  // namespace qrm
+#endif

@@ -443,13 +443,13 @@ inline std::string format_double(double v) {
 
 // parse_scene(text, source): a scene from the text format; `source` names it in errors.
 template <int = 0>
-inline scene parse_scene(std::string_view text, const std::string& source = "scene") {
+scene parse_scene(std::string_view text, const std::string& source = "scene") {
   return detail::scene_parser(text, source).parse();
 }
 
 // load_scene(path): read and parse a scene file.
 template <int = 0>
-inline scene load_scene(const std::string& path) {
+scene load_scene(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   if (!f) throw scene_parse_error(path + ": cannot open the scene file");
   std::ostringstream ss;
@@ -460,7 +460,7 @@ inline scene load_scene(const std::string& path) {
 // format_scene(s): the scene in the text format, one voxel line per non-default voxel
 // (lossless: numbers are written with 17 significant digits).
 template <int = 0>
-inline std::string format_scene(const scene& s) {
+std::string format_scene(const scene& s) {
   using detail::format_double;
   std::string out = "qrm-scene 1\nname " + (s.name().empty() ? std::string("unnamed") : s.name()) + "\ndims " +
                     std::to_string(s.dims()) + "\nsize " + std::to_string(s.size()) + "\n";
@@ -503,3 +503,14 @@ inline std::string format_scene(const scene& s) {
 }
 
 }  // namespace qrm
+
+// This header's part of <qrm/walk/compiled_walk.hpp> (QRM_COMPILED_WALK).
+#define QRM_DETAIL_SCENE_FORMAT_INSTANCES(PREFIX)                    \
+  PREFIX scene parse_scene<0>(std::string_view, const std::string&); \
+  PREFIX scene load_scene<0>(const std::string&);                    \
+  PREFIX std::string format_scene<0>(const scene&);
+#ifdef QRM_COMPILED_WALK
+namespace qrm {
+QRM_DETAIL_SCENE_FORMAT_INSTANCES(extern template)
+}  // namespace qrm
+#endif

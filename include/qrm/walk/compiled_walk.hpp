@@ -1,0 +1,31 @@
+// qrm/walk/compiled_walk.hpp: include in exactly one source file of a program whose other source
+// files are compiled with QRM_COMPILED_WALK defined. This file then compiles the walk's
+// run-time builders (scenes and their parser, direction sets, coins, the walk model, the walk's
+// tables, the classical references and cost formulas), each a `template <int = 0>` function
+// instantiated once here, and the others call them instead of compiling their own copies
+// (README, "Compiling the backends once": the same scheme as QRM_COMPILED_BACKENDS and
+// <qrm/backends/compiled_backends.hpp>). The typed walk (walk_circuit<Shape>, its gate
+// templates) stays a template of its shape and is compiled where it is used.
+#pragma once
+
+#include "circuit.hpp"
+#include "classical.hpp"
+#include "coins.hpp"
+#include "cost.hpp"
+#include "directions.hpp"
+#include "model.hpp"
+#include "paper_scenes.hpp"
+#include "scene.hpp"
+#include "scene_format.hpp"
+
+namespace qrm {
+QRM_DETAIL_SCENE_INSTANCES(template)
+QRM_DETAIL_SCENE_FORMAT_INSTANCES(template)
+QRM_DETAIL_PAPER_SCENES_INSTANCES(template)
+QRM_DETAIL_DIRECTIONS_INSTANCES(template)
+QRM_DETAIL_COINS_INSTANCES(template)
+QRM_DETAIL_MODEL_INSTANCES(template)
+QRM_DETAIL_WALK_CIRCUIT_INSTANCES(template)
+QRM_DETAIL_CLASSICAL_INSTANCES(template)
+QRM_DETAIL_COST_INSTANCES(template)
+}  // namespace qrm
