@@ -14,6 +14,7 @@
 
 #include <complex>
 #include <qrm/qrm.hpp>
+#include <qrm/backends/detail/dense_batched.hpp>  // detail::resolve_simd
 #include <vector>
 
 #include "random_suite.hpp"

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <qrm/qrm.hpp>
+#include <qrm/backends/detail/dense_blocked.hpp>  // the kernels it times one by one
 
 namespace {
 

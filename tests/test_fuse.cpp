@@ -12,6 +12,7 @@
 
 #include <qrm/circuit/decompose.hpp>
 #include <qrm/circuit/fuse.hpp>
+#include <qrm/backends/detail/dense_blocked.hpp>  // plan_runs, memory_bound_dim
 #include <qrm/walk/circuit.hpp>
 #include <qrm/walk/paper_scenes.hpp>
 

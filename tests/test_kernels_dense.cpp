@@ -8,6 +8,8 @@
 #include <type_traits>
 #include <vector>
 
+#include <qrm/backends/detail/dense_blocked.hpp>  // the kernels' internals some cases check
+
 #include "kernel_cases.hpp"
 #include "support/random_programs.hpp"
 

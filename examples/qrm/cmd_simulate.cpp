@@ -12,6 +12,7 @@
 #include <limits>
 #include <qrm/backends/compact.hpp>
 #include <qrm/backends/dense.hpp>
+#include <qrm/backends/detail/dense_batched.hpp>  // detail::resolve_simd: the level the kernels run
 #include <qrm/circuit/fuse.hpp>
 #include <qrm/circuit/qasm.hpp>
 #include <qrm/io/atomic_file.hpp>

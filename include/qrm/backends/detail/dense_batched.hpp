@@ -29,34 +29,8 @@
 #include <vector>
 
 #include "bits.hpp"
+#include "dense_api.hpp"
 #include "scalar.hpp"
-
-namespace qrm {
-// Which vector instructions the matrix kernels use: the best this CPU has (automatic), or a
-// given level (to compare them, or to test each path on one machine); a level the CPU lacks
-// falls back to the best one below it.
-enum class simd_level : unsigned char { automatic, generic, avx2, avx512 };
-
-// What the matrix kernels (fused blocks, and complex<float> gates above target 0 on states of 12
-// or more free qubits) and the low-target pair kernel (dense_pairs.hpp) compute complex<float>
-// amplitudes in. double_precision, the default: each
-// output is a sum of double products rounded to float once, so one gate repeated 2 x 10^4 times
-// keeps the norm to 2e-7. single_precision: float products and sums, as Google qsim computes;
-// twice the amplitudes per register and no conversions (the decomposed walk fused runs about
-// 2x faster), at the price of float rounding inside every sum (the repeated gate drifts the
-// norm by 1.4e-4 for an Ry on 12 qubits, against 8e-8). It needs AVX2; without it the kernels compute in double.
-enum class float_math : unsigned char { double_precision, single_precision };
-
-constexpr const char* simd_level_name(simd_level l) {
-  switch (l) {
-    case simd_level::automatic: return "automatic";
-    case simd_level::generic: return "generic";
-    case simd_level::avx2: return "avx2";
-    case simd_level::avx512: return "avx512";
-  }
-  return "?";
-}
-}  // namespace qrm
 
 namespace qrm::detail {
 

@@ -68,25 +68,6 @@ std::uint64_t control_mask(const op::any& o) {
   return m;
 }
 
-// The lowest qubits every chunk keeps: 128 contiguous bytes, whole cache lines per copied run.
-template <class S>
-constexpr unsigned chunk_low_qubits() {
-  return static_cast<unsigned>(std::countr_zero(128 / sizeof(S)));
-}
-
-// Ops order[first, last) run chunk by chunk over the qubits `local` (a mask of m qubits), or on the
-// whole state when local == 0.
-struct op_run {
-  std::size_t first = 0, last = 0;
-  std::uint64_t local = 0;
-};
-
-// The runs of a program, and the order its ops are applied in (indices into the program).
-struct run_plan {
-  std::vector<std::size_t> order;
-  std::vector<op_run> runs;
-};
-
 // Whether an op's kernel waits on memory, for matrices up to `widest_memory_bound` rows (see
 // memory_bound_dim): every op but a matrix on more qubits, whose multiply-adds per amplitude
 // outlast the trip to memory. Only such ops gain from a chunk; for the others its copy is cost.
@@ -128,15 +109,6 @@ double memory_passes(const op::any& o, unsigned low, std::size_t widest_memory_b
   return passes;
 }
 
-// A run is chunked when its ops would make at least this many passes over memory on their own.
-// Copying every chunk of a 2^24-amplitude complex<float> state in and out costs 2.1-3.3 in-place
-// passes (runs of 128 bytes to 4 KiB, chunks of 2^15 to 2^17 amplitudes; AMD EPYC VM,
-// 2026-12-05; a prefetch distance of 8 KiB instead of 16 runs, or non-temporal stores, did not
-// change the random suite's time), and the ops then run from cache, so a run breaks even at 2 to
-// 3 passes. Same measurements as memory_bound_dim: at 4 passes the fused programs ran within the
-// noise of 2, and the unfused ones within the noise of 6 at both.
-inline constexpr double min_chunked_passes = 2;
-
 // How many ops a run looks past (ops it cannot take) for further ops that commute with them.
 inline constexpr std::size_t run_lookahead = 256;
 
@@ -150,9 +122,9 @@ inline constexpr std::size_t run_lookahead = 256;
 // qubit that is only a control of both is diagonal in both). So the ops are applied in another
 // order, which gives the same state to rounding. On the 24-qubit random suite (300 gates, chunks
 // of 2^17 amplitudes) in program order: 12 runs unfused and 13 fused; with the look-ahead 9 and 11.
-template <int = 0>
-run_plan plan_runs(std::span<const op::any> ops, unsigned n, unsigned m, unsigned low = 0,
-                   double min_passes = min_chunked_passes, std::size_t widest_memory_bound = 4) {
+template <int>
+run_plan plan_runs(std::span<const op::any> ops, unsigned n, unsigned m, unsigned low, double min_passes,
+                   std::size_t widest_memory_bound) {
   run_plan plan;
   plan.order.reserve(ops.size());
   std::vector<std::uint64_t> moving(ops.size()), touched(ops.size());

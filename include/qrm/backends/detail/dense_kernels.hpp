@@ -24,6 +24,7 @@
 
 #include "../../circuit/ops.hpp"
 #include "bits.hpp"
+#include "dense_api.hpp"
 #include "dense_batched.hpp"
 #include "dense_lanes.hpp"
 #include "dense_pairs.hpp"
@@ -31,25 +32,10 @@
 #include "scalar.hpp"
 #include "../../support/detail/thread_pool.hpp"
 
-namespace qrm {
-// How a multiplexed gate visits the state: each entry's subspace, or one sweep with a lookup.
-enum class mux_strategy : unsigned char { automatic, per_entry, sweep };
-}  // namespace qrm
-
 namespace qrm::detail {
 
 // Two doubles as one SSE2 register (GNU vector extension, supported by g++ >= 12 and clang).
 typedef double v2d __attribute__((vector_size(16)));
-
-// How kernels may use threads: at most `threads`, and only when a kernel touches at least
-// `min_parallel` amplitudes (below that, waking workers costs more than the loop).
-struct exec_policy {
-  unsigned threads = 1;
-  std::uint64_t min_parallel = std::uint64_t{1} << 16;
-  mux_strategy mux = mux_strategy::automatic;
-  simd_level simd = simd_level::automatic;
-  float_math math = float_math::double_precision;
-};
 
 // Members per chunk: fixed, so chunk boundaries (and per-chunk partial sums) do not depend on
 // the thread count.
@@ -134,7 +120,6 @@ void for_each_pair(const S* a, unsigned n, unsigned t, std::uint64_t cmask, std:
   }
 }
 
-// Sum over s of g(first_index, length), summed per chunk then in chunk order (deterministic).
 template <class G>
 double reduce_runs(const subspace& s, const exec_policy& ex, G&& g) {
   const std::uint64_t count = s.count();
@@ -171,10 +156,6 @@ double norm_of_run(const S* a, std::uint64_t first, std::uint64_t len) {
 }
 
 // ---- single-qubit gates ------------------------------------------------------------------
-
-template <class S>
-void kernel_unitary(S* a, unsigned n, const dense_matrix& m, std::span<const qubit_index> targets,
-                    std::uint64_t tmask, std::uint64_t cmask, std::uint64_t cvalue, const exec_policy& ex);
 
 // Exchanges *x and *y as 64-bit words (32-bit for float): std::swap of a complex moved each
 // part as a floating-point value, one element per load, and ran a C^k X on complex<float> at
