@@ -82,8 +82,8 @@ struct run_plan {
 // passes (runs of 128 bytes to 4 KiB, chunks of 2^15 to 2^17 amplitudes; AMD EPYC VM,
 // 2026-12-05; a prefetch distance of 8 KiB instead of 16 runs, or non-temporal stores, did not
 // change the random suite's time), and the ops then run from cache, so a run breaks even at 2 to
-// 3 passes. Same measurements as memory_bound_dim: at 4 passes the fused programs ran within the
-// noise of 2, and the unfused ones within the noise of 6 at both.
+// 3 passes. Same measurements as memory_bound_dim (dense_blocked.hpp): at 4 passes the fused
+// programs ran within the noise of 2, and the unfused ones within the noise of 6 at both.
 inline constexpr double min_chunked_passes = 2;
 
 // ---- entry points (dense_kernels.hpp) ----------------------------------------------------
