@@ -329,16 +329,27 @@ TEST_CASE("hostile input: non-finite values, deep nesting, multiplying definitio
   // hundred bytes. Refused at the top-level call, both for a gate imported as one matrix (at
   // most 6 qubits) and for a wider one expanded inline; ten levels (1024 gates) are fine.
   auto doubling = [](std::size_t levels, std::size_t qubits) {
+    // Appended piece by piece: g++ 12 -O3 warns falsely (-Wrestrict) on "literal" + std::to_string(n).
     std::string args;
-    for (std::size_t i = 0; i < qubits; ++i) args += (i ? ", a" : "a") + std::to_string(i);
-    std::string t = "OPENQASM 3.0;\ninclude \"stdgates.inc\";\nqubit[" + std::to_string(qubits) + "] q;\n";
+    for (std::size_t i = 0; i < qubits; ++i) {
+      args += i ? ", a" : "a";
+      args += std::to_string(i);
+    }
+    std::string t = "OPENQASM 3.0;\ninclude \"stdgates.inc\";\nqubit[";
+    t += std::to_string(qubits) + "] q;\n";
     t += "gate g0 " + args + " { h a0; }\n";
     for (std::size_t l = 1; l <= levels; ++l) {
-      const std::string prev = "g" + std::to_string(l - 1) + " " + args + "; ";
-      t += "gate g" + std::to_string(l) + " " + args + " { " + prev + prev + "}\n";
+      std::string prev = "g";
+      prev += std::to_string(l - 1) + " " + args + "; ";
+      t += "gate g";
+      t += std::to_string(l) + " " + args + " { " + prev + prev + "}\n";
     }
-    t += "g" + std::to_string(levels);
-    for (std::size_t i = 0; i < qubits; ++i) t += (i ? ", q[" : " q[") + std::to_string(i) + "]";
+    t += "g";
+    t += std::to_string(levels);
+    for (std::size_t i = 0; i < qubits; ++i) {
+      t += i ? ", q[" : " q[";
+      t += std::to_string(i) + "]";
+    }
     return t + ";\n";
   };
   const std::string multiplies = "' expands to more than 1048576 gates (gate definitions that call each other multiply)";

@@ -765,7 +765,7 @@ class lowerer {
 // decompose(p): an equivalent program of single-qubit gates and CNOTs (rules in the header
 // comment), with clean ancillas appended after p's qubits.
 template <int Deferred = 0>
-inline decomposition_result decompose(const program& p, decompose_options options = {}) {
+decomposition_result decompose(const program& p, decompose_options options = {}) {
   detail::lowerer<Deferred> l(p.width(), options);
   for (std::size_t i = 0; i < p.ops().size(); ++i) l.lower(p.ops()[i], i);
   return l.finish(p.registers());
@@ -784,7 +784,7 @@ struct decomposed_counts {
 
 // decomposed_metrics(p): the cost of p on hardware with single-qubit gates and CNOTs.
 template <int = 0>
-inline decomposed_counts decomposed_metrics(const program& p, decompose_options options = {}) {
+decomposed_counts decomposed_metrics(const program& p, decompose_options options = {}) {
   const decomposition_result d = decompose(p, options);
   decomposed_counts c;
   c.width = d.circuit.width();
@@ -801,3 +801,13 @@ inline decomposed_counts decomposed_metrics(const program& p, decompose_options 
 }
 
 }  // namespace qrm
+
+// This header's part of <qrm/circuit/compiled_circuit.hpp> (QRM_COMPILED_CIRCUIT).
+#define QRM_DETAIL_DECOMPOSE_INSTANCES(PREFIX)                                       \
+  PREFIX decomposition_result decompose<0>(const program&, decompose_options);       \
+  PREFIX decomposed_counts decomposed_metrics<0>(const program&, decompose_options);
+#ifdef QRM_COMPILED_CIRCUIT
+namespace qrm {
+QRM_DETAIL_DECOMPOSE_INSTANCES(extern template)
+}  // namespace qrm
+#endif

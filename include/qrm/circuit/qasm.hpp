@@ -1165,13 +1165,23 @@ class qasm_parser {
 
 // to_qasm(p): p as an OpenQASM 3 program (the forms are described at the top of this header).
 template <int = 0>
-inline std::string to_qasm(const program& p, qasm_options options = {}) {
+std::string to_qasm(const program& p, qasm_options options = {}) {
   return options.decomposed ? detail::to_qasm_decomposed(p, options) : detail::to_qasm_logical(p, options);
 }
 
 // from_qasm(text): the program an OpenQASM 3 text describes (the subset is listed at the top
 // of this header); throws qrm::qasm_error naming the line, the column and what was expected.
 template <int Deferred = 0>
-inline program from_qasm(std::string_view text) { return detail::qasm_parser<Deferred>(text).parse(); }
+program from_qasm(std::string_view text) { return detail::qasm_parser<Deferred>(text).parse(); }
 
 }  // namespace qrm
+
+// This header's part of <qrm/circuit/compiled_circuit.hpp> (QRM_COMPILED_CIRCUIT).
+#define QRM_DETAIL_QASM_INSTANCES(PREFIX)                      \
+  PREFIX std::string to_qasm<0>(const program&, qasm_options); \
+  PREFIX program from_qasm<0>(std::string_view);
+#ifdef QRM_COMPILED_CIRCUIT
+namespace qrm {
+QRM_DETAIL_QASM_INSTANCES(extern template)
+}  // namespace qrm
+#endif

@@ -79,3 +79,15 @@ estimation_result estimate_amplitude(O& oracle, const estimator_settings& s, rng
 }
 
 }  // namespace qrm
+
+// This header's part of <qrm/estimation/compiled_estimation.hpp> (QRM_COMPILED_ESTIMATION): the
+// estimators for the two oracles qrm's renderers and tool hand them (every oracle type reaches the
+// renderers as an any_oracle; a known probability is an analytic_oracle).
+#define QRM_DETAIL_ESTIMATOR_INSTANCES(PREFIX)                                                                    \
+  PREFIX estimation_result estimate_amplitude<analytic_oracle>(analytic_oracle&, const estimator_settings&, rng&); \
+  PREFIX estimation_result estimate_amplitude<any_oracle>(any_oracle&, const estimator_settings&, rng&);
+#ifdef QRM_COMPILED_ESTIMATION
+namespace qrm {
+QRM_DETAIL_ESTIMATOR_INSTANCES(extern template)
+}  // namespace qrm
+#endif

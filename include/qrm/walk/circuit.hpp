@@ -616,7 +616,7 @@ program record(const C& c) {
 // make_walk_program<Dims>(...) is the same for a scene known to have Dims dimensions: it compiles
 // one walk instead of both (a 2D-only program need not build the 3D one), and refuses other scenes.
 template <unsigned Dims = 0>
-inline walk_program make_walk_program(const walk_model& m, const walk_start& start, const walk_options& o) {
+walk_program make_walk_program(const walk_model& m, const walk_start& start, const walk_options& o) {
   auto build = [&]<class C>(std::type_identity<C>) {
     const C a(m, start, o);
     walk_program w;
@@ -658,9 +658,12 @@ double probability_out(Backend& b, const walk_program& w) {
 }  // namespace qrm
 
 // This header's part of <qrm/walk/compiled_walk.hpp> (QRM_COMPILED_WALK).
-#define QRM_DETAIL_WALK_CIRCUIT_INSTANCES(PREFIX)                                                     \
-  PREFIX walk_tables build_walk_tables<0>(const walk_model&, const walk_start&, const walk_options&); \
-  PREFIX program remove_idle_qubits<0>(const program&, std::vector<qubit_index>*);
+#define QRM_DETAIL_WALK_CIRCUIT_INSTANCES(PREFIX)                                                      \
+  PREFIX walk_tables build_walk_tables<0>(const walk_model&, const walk_start&, const walk_options&);  \
+  PREFIX program remove_idle_qubits<0>(const program&, std::vector<qubit_index>*);                     \
+  PREFIX walk_program make_walk_program<0>(const walk_model&, const walk_start&, const walk_options&); \
+  PREFIX walk_program make_walk_program<2>(const walk_model&, const walk_start&, const walk_options&); \
+  PREFIX walk_program make_walk_program<3>(const walk_model&, const walk_start&, const walk_options&);
 #ifdef QRM_COMPILED_WALK
 namespace qrm {
 QRM_DETAIL_WALK_CIRCUIT_INSTANCES(extern template)
