@@ -37,12 +37,18 @@ int main(int argc, char** argv) {
       qrm::program p(n);
       for (int j = 0; j < 2; ++j) p.push(qrm_test::random_op(kind, n, g));
       const std::string name = dir + "/" + qrm_test::op_kind_name(kind) + "_" + std::to_string(i);
-      write(name + "_logical.qasm", "\n" + qrm::to_qasm(p));
+      // Appended, not "\n" + to_qasm(...): g++ 12 -O3 warns falsely (-Wrestrict) on a literal
+      // prepended to a returned string.
+      std::string logical = "\n";
+      logical += qrm::to_qasm(p);
+      write(name + "_logical.qasm", logical);
       qrm::qasm_options o;
       o.decomposed = true;
       o.comments = false;
       o.decomposition.keep_toffoli = i == 1;
-      write(name + "_decomposed.qasm", "\n" + qrm::to_qasm(p, o));
+      std::string decomposed = "\n";
+      decomposed += qrm::to_qasm(p, o);
+      write(name + "_decomposed.qasm", decomposed);
     }
   }
   // Structured mode reads: options (odd), width, then per op an rng seed byte and a kind byte

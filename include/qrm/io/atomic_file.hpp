@@ -281,8 +281,17 @@ void write_file_atomically(const std::filesystem::path& target, Writer&& writer)
 
 // write_file_atomically(target, contents): the same, for content already in memory.
 template <int = 0>
-inline void write_file_atomically(const std::filesystem::path& target, std::string_view contents) {
+void write_file_atomically(const std::filesystem::path& target, std::string_view contents) {
   write_file_atomically(target, [contents](file_sink& out) { out.write(contents); });
 }
 
 }  // namespace qrm::io
+
+// This header's part of <qrm/io/compiled_io.hpp> (QRM_COMPILED_IO).
+#define QRM_DETAIL_ATOMIC_FILE_INSTANCES(PREFIX)                                        \
+  PREFIX void write_file_atomically<0>(const std::filesystem::path&, std::string_view);
+#ifdef QRM_COMPILED_IO
+namespace qrm::io {
+QRM_DETAIL_ATOMIC_FILE_INSTANCES(extern template)
+}  // namespace qrm::io
+#endif

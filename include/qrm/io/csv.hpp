@@ -101,7 +101,7 @@ class table {
 
 // to_csv(t): the header line and one line per row, each ending in "\n".
 template <int = 0>
-inline std::string to_csv(const table& t) {
+std::string to_csv(const table& t) {
   std::string out;
   auto line = [&out](const auto& fields, auto to_text) {
     for (std::size_t k = 0; k < fields.size(); ++k) {
@@ -152,10 +152,20 @@ inline std::string to_markdown(const table& t, int significant_digits = 6) {
 
 // write_csv(path, t) / write_markdown(path, t, digits): write the table atomically.
 template <int = 0>
-inline void write_csv(const std::filesystem::path& path, const table& t) { write_file_atomically(path, to_csv(t)); }
+void write_csv(const std::filesystem::path& path, const table& t) { write_file_atomically(path, to_csv(t)); }
 template <int = 0>
 inline void write_markdown(const std::filesystem::path& path, const table& t, int significant_digits = 6) {
   write_file_atomically(path, to_markdown(t, significant_digits));
 }
 
 }  // namespace qrm::io
+
+// This header's part of <qrm/io/compiled_io.hpp> (QRM_COMPILED_IO).
+#define QRM_DETAIL_CSV_INSTANCES(PREFIX)                                \
+  PREFIX std::string to_csv<0>(const table&);                           \
+  PREFIX void write_csv<0>(const std::filesystem::path&, const table&);
+#ifdef QRM_COMPILED_IO
+namespace qrm::io {
+QRM_DETAIL_CSV_INSTANCES(extern template)
+}  // namespace qrm::io
+#endif

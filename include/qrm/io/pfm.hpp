@@ -75,7 +75,7 @@ namespace qrm::io {
 
 // write_pfm(path, img): writes a colour PFM (little-endian, rows bottom to top) atomically.
 template <int = 0>
-inline void write_pfm(const std::filesystem::path& path, const image& img) {
+void write_pfm(const std::filesystem::path& path, const image& img) {
   detail::require_nonempty(img, "write_pfm");
   const std::string header = "PF\n" + std::to_string(img.width()) + " " + std::to_string(img.height()) + "\n-1.0\n";
   write_file_atomically(path, [&](file_sink& out) {
@@ -98,7 +98,7 @@ inline void write_pfm(const std::filesystem::path& path, const image& img) {
 // parse_pfm(bytes, name): the image in a PFM file's bytes; std::invalid_argument naming `name`
 // and the problem for a bad magic, size, scale, or a pixel data length that does not match.
 template <int = 0>
-inline image parse_pfm(std::span<const std::uint8_t> bytes, const std::string& name = "PFM data") {
+image parse_pfm(std::span<const std::uint8_t> bytes, const std::string& name = "PFM data") {
   const std::string who = "read_pfm: '" + name + "'";
   std::size_t pos = 0;
   auto is_space = [](std::uint8_t c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; };
@@ -177,8 +177,19 @@ inline image parse_pfm(std::span<const std::uint8_t> bytes, const std::string& n
 // read_pfm(path): reads a PFM file (see parse_pfm for the errors; std::runtime_error with the
 // errno text if the file cannot be read).
 template <int = 0>
-inline image read_pfm(const std::filesystem::path& path) {
+image read_pfm(const std::filesystem::path& path) {
   return parse_pfm(detail::read_whole_file(path, "read_pfm"), path.string());
 }
 
 }  // namespace qrm::io
+
+// This header's part of <qrm/io/compiled_io.hpp> (QRM_COMPILED_IO).
+#define QRM_DETAIL_PFM_INSTANCES(PREFIX)                                        \
+  PREFIX void write_pfm<0>(const std::filesystem::path&, const image&);         \
+  PREFIX image parse_pfm<0>(std::span<const std::uint8_t>, const std::string&); \
+  PREFIX image read_pfm<0>(const std::filesystem::path&);
+#ifdef QRM_COMPILED_IO
+namespace qrm::io {
+QRM_DETAIL_PFM_INSTANCES(extern template)
+}  // namespace qrm::io
+#endif

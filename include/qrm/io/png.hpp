@@ -77,7 +77,7 @@ inline std::uint32_t adler32(std::span<const std::uint8_t> bytes, std::uint32_t 
 // std::invalid_argument naming the problem for a zero or too large size, another channel count,
 // or a data size that does not match width x height x channels.
 template <int = 0>
-inline std::vector<std::uint8_t> encode_png(const image8& img) {
+std::vector<std::uint8_t> encode_png(const image8& img) {
   constexpr std::size_t png_max = 0x7FFFFFFF;  // PNG's limit on sizes and chunk lengths
   if (img.width == 0 || img.height == 0 || img.width > png_max || img.height > png_max)
     throw std::invalid_argument("encode_png: size " + detail::size_text(img.width, img.height) +
@@ -145,7 +145,7 @@ inline std::vector<std::uint8_t> encode_png(const image8& img) {
 
 // write_png(path, img): writes an 8-bit image as a PNG, atomically (see atomic_file.hpp).
 template <int = 0>
-inline void write_png(const std::filesystem::path& path, const image8& img) {
+void write_png(const std::filesystem::path& path, const image8& img) {
   const std::vector<std::uint8_t> bytes = encode_png(img);
   write_file_atomically(path, [&bytes](file_sink& out) { out.write(bytes.data(), bytes.size()); });
 }
@@ -153,8 +153,19 @@ inline void write_png(const std::filesystem::path& path, const image8& img) {
 // write_png(path, img, tm): tone maps a linear image to 8-bit sRGB (to_srgb8, which rejects
 // NaN/infinite pixels by name) and writes it as a PNG.
 template <int = 0>
-inline void write_png(const std::filesystem::path& path, const image& img, tone_map tm = {}) {
+void write_png(const std::filesystem::path& path, const image& img, tone_map tm = {}) {
   write_png(path, to_srgb8(img, tm));
 }
 
 }  // namespace qrm::io
+
+// This header's part of <qrm/io/compiled_io.hpp> (QRM_COMPILED_IO).
+#define QRM_DETAIL_PNG_INSTANCES(PREFIX)                                          \
+  PREFIX std::vector<std::uint8_t> encode_png<0>(const image8&);                  \
+  PREFIX void write_png<0>(const std::filesystem::path&, const image8&);          \
+  PREFIX void write_png<0>(const std::filesystem::path&, const image&, tone_map);
+#ifdef QRM_COMPILED_IO
+namespace qrm::io {
+QRM_DETAIL_PNG_INSTANCES(extern template)
+}  // namespace qrm::io
+#endif

@@ -289,7 +289,7 @@ inline line_fit fit_log_log(std::span<const double> x, std::span<const double> y
 // that cannot be made (fewer than 2 points, all x equal), invalid UTF-8 or control characters in
 // text, or a size below 200 x 150.
 template <int = 0>
-inline std::string render_svg(const plot& p) {
+std::string render_svg(const plot& p) {
   using detail::fixed_text;
   if (p.width < 200 || p.height < 150 || p.width > 100000 || p.height > 100000)
     throw std::invalid_argument("render_svg: size " + std::to_string(p.width) + "x" + std::to_string(p.height) +
@@ -524,6 +524,16 @@ inline std::string render_svg(const plot& p) {
 
 // write_svg(path, p): renders the plot and writes it atomically.
 template <int = 0>
-inline void write_svg(const std::filesystem::path& path, const plot& p) { write_file_atomically(path, render_svg(p)); }
+void write_svg(const std::filesystem::path& path, const plot& p) { write_file_atomically(path, render_svg(p)); }
 
 }  // namespace qrm::io
+
+// This header's part of <qrm/io/compiled_io.hpp> (QRM_COMPILED_IO).
+#define QRM_DETAIL_SVG_PLOT_INSTANCES(PREFIX)                          \
+  PREFIX std::string render_svg<0>(const plot&);                       \
+  PREFIX void write_svg<0>(const std::filesystem::path&, const plot&);
+#ifdef QRM_COMPILED_IO
+namespace qrm::io {
+QRM_DETAIL_SVG_PLOT_INSTANCES(extern template)
+}  // namespace qrm::io
+#endif

@@ -170,7 +170,7 @@ inline std::vector<pixel_start> pixel_starts(const walk_model& m, const camera& 
 // vector sorted by state (qrm::path_sum's std::map order) and contributions to one state are
 // added in the order the map would receive them (a stable sort keeps generation order).
 template <int = 0>
-inline rgb3 path_sum_rgb(const qrm::detail::transition_table& t, const walk_start& start, unsigned steps) {
+rgb3 path_sum_rgb(const qrm::detail::transition_table& t, const walk_start& start, unsigned steps) {
   const walk_model& m = t.model();
   struct entry {
     walk_state w;
@@ -416,7 +416,7 @@ struct path_set {
 // first in coin order. Exponential in steps: throws std::length_error, naming the budget, as
 // soon as there are more than path_budget paths.
 template <int = 0>
-inline path_set enumerate_paths(const qrm::detail::transition_table& t, const walk_start& start, unsigned steps,
+path_set enumerate_paths(const qrm::detail::transition_table& t, const walk_start& start, unsigned steps,
                                 std::size_t path_budget = std::size_t{1} << 20) {
   const walk_model& m = t.model();
   path_set ps;
@@ -457,7 +457,7 @@ inline path_set enumerate_paths(const qrm::detail::transition_table& t, const wa
   return ps;
 }
 template <int = 0>
-inline path_set enumerate_paths(const walk_model& m, const walk_start& start, unsigned steps,
+path_set enumerate_paths(const walk_model& m, const walk_start& start, unsigned steps,
                                 std::size_t path_budget = std::size_t{1} << 20) {
   return enumerate_paths(qrm::detail::transition_table(m), start, steps, path_budget);
 }
@@ -534,7 +534,7 @@ namespace qrm::render {
 // render_exact(model, camera, options): every pixel's exact radiance (the path sum): by the
 // radiance_table when the walker's states are (voxel, direction) pairs, else per start.
 template <int = 0>
-inline image render_exact(const walk_model& m, const camera& cam, const render_options& o = {}) {
+image render_exact(const walk_model& m, const camera& cam, const render_options& o = {}) {
   const unsigned threads = qrm::detail::threads_or_hardware(o.threads);
   const auto px = pixel_starts(m, cam, o.part, threads);
   const pixel_range r = tile_pixels(static_cast<std::size_t>(cam.width()) * cam.height(), o.part);
@@ -568,7 +568,7 @@ struct monte_carlo_image {
 // (qrm::monte_carlo's walk, all channels on the same paths), pixel p seeded with
 // rng::stream(seed, p).
 template <int = 0>
-inline monte_carlo_image render_monte_carlo(const walk_model& m, const camera& cam, std::uint64_t paths,
+monte_carlo_image render_monte_carlo(const walk_model& m, const camera& cam, std::uint64_t paths,
                                             std::uint64_t seed, const render_options& o = {}) {
   if (paths == 0) throw std::invalid_argument("render_monte_carlo: paths per pixel must be positive");
   const unsigned threads = qrm::detail::threads_or_hardware(o.threads);
@@ -617,7 +617,7 @@ struct emulated_image {
 // the K paths have the same distribution. A channel whose exact mean is 0 (no path reaches an
 // emitter through non-zero reflectances) is 0, without an estimator.
 template <int = 0>
-inline emulated_image render_emulated(const walk_model& m, const camera& cam, const emulation_options& e,
+emulated_image render_emulated(const walk_model& m, const camera& cam, const emulation_options& e,
                                       const render_options& o = {}) {
   if (e.paths_per_pixel == 0) throw std::invalid_argument("render_emulated: paths per pixel must be positive");
   const unsigned threads = qrm::detail::threads_or_hardware(o.threads);
@@ -682,3 +682,19 @@ inline emulated_image render_emulated(const walk_model& m, const camera& cam, co
 }
 
 }  // namespace qrm::render
+
+// This header's part of <qrm/render/compiled_render.hpp> (QRM_COMPILED_RENDER).
+#define QRM_DETAIL_CLASSICAL_RENDER_INSTANCES(PREFIX)                                                                 \
+  PREFIX image render_exact<0>(const walk_model&, const camera&, const render_options&);                              \
+  PREFIX monte_carlo_image render_monte_carlo<0>(const walk_model&, const camera&, std::uint64_t, std::uint64_t,      \
+                                                const render_options&);                                               \
+  PREFIX emulated_image render_emulated<0>(const walk_model&, const camera&, const emulation_options&,                \
+                                          const render_options&);                                                     \
+  PREFIX rgb3 path_sum_rgb<0>(const qrm::detail::transition_table&, const walk_start&, unsigned);                     \
+  PREFIX path_set enumerate_paths<0>(const qrm::detail::transition_table&, const walk_start&, unsigned, std::size_t); \
+  PREFIX path_set enumerate_paths<0>(const walk_model&, const walk_start&, unsigned, std::size_t);
+#ifdef QRM_COMPILED_RENDER
+namespace qrm::render {
+QRM_DETAIL_CLASSICAL_RENDER_INSTANCES(extern template)
+}  // namespace qrm::render
+#endif

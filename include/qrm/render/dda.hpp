@@ -53,7 +53,7 @@ inline bool stops_ray(const scene& s, std::size_t index, const dda_options& o = 
 // first_hit(scene, origin, direction, options): the first voxel along the ray that stops it.
 // `direction` need not be unit length (t is in units of it); origins outside the grid are fine.
 template <int = 0>
-inline voxel_hit first_hit(const scene& s, const vec3& origin, const vec3& direction, const dda_options& opt = {}) {
+voxel_hit first_hit(const scene& s, const vec3& origin, const vec3& direction, const dda_options& opt = {}) {
   if (s.dims() != 3) throw std::invalid_argument("first_hit: scene '" + s.name() + "' is not 3D");
   if (!qrm::detail::vec_finite(origin) || !qrm::detail::vec_finite(direction) || !(norm(direction) > 0))
     throw std::invalid_argument("first_hit: the ray's origin and direction must be finite and the direction non-zero");
@@ -149,3 +149,12 @@ inline voxel_hit first_hit(const scene& s, const vec3& origin, const vec3& direc
 }
 
 }  // namespace qrm::render
+
+// This header's part of <qrm/render/compiled_render.hpp> (QRM_COMPILED_RENDER).
+#define QRM_DETAIL_DDA_INSTANCES(PREFIX)                                                     \
+  PREFIX voxel_hit first_hit<0>(const scene&, const vec3&, const vec3&, const dda_options&);
+#ifdef QRM_COMPILED_RENDER
+namespace qrm::render {
+QRM_DETAIL_DDA_INSTANCES(extern template)
+}  // namespace qrm::render
+#endif

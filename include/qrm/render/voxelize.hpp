@@ -222,65 +222,7 @@ class voxelizer {
   // build(name, absorbing_shell): the scene. With the shell (see the file comment), no surface
   // may reach the outermost voxel layer.
   template <int = 0>
-  scene build(const std::string& name, bool absorbing_shell = true) const {
-    const unsigned n = size_;
-    scene sc(name, 3, n);
-    const std::size_t count = sc.voxel_count();
-    std::vector<double> best(count, std::numeric_limits<double>::infinity());
-    std::vector<int> winner(count, -1);
-    for (std::size_t k = 0; k < elements_.size(); ++k)
-      for_each_met_voxel(elements_[k], [&](std::size_t i, const vec3& c) {
-        const double d = distance(elements_[k], c);
-        if (d < best[i]) {
-          best[i] = d;
-          winner[i] = static_cast<int>(k);
-        }
-      });
-    std::vector<vec3> normal_sum(count, vec3{0, 0, 0});
-    for (const element& e : elements_)
-      for_each_met_voxel(e, [&](std::size_t i, const vec3& c) {
-        if (winner[i] >= 0 && elements_[static_cast<std::size_t>(winner[i])].group == e.group)
-          normal_sum[i] = qrm::detail::vec_add(normal_sum[i], normal_at(e, c));
-      });
-    for (std::size_t i = 0; i < count; ++i) {
-      if (winner[i] < 0) continue;
-      const element& w = elements_[static_cast<std::size_t>(winner[i])];
-      voxel& v = sc[i];
-      v.kind = w.mat.kind;
-      v.reflectance = w.mat.reflectance;
-      v.emission = w.mat.emission;
-      v.lobe = w.mat.lobe;
-      const auto xyz = sc.coords(i);
-      v.normal = norm(normal_sum[i]) > 1e-9 ? normalized(normal_sum[i]) : normal_at(w, centre_of(xyz));
-    }
-    if (absorbing_shell) {
-      for (std::size_t i = 0; i < count; ++i) {
-        const auto xyz = sc.coords(i);
-        int axis = -1;
-        double inward = 0;
-        for (int a = 0; a < 3 && axis < 0; ++a) {
-          const unsigned c = xyz[static_cast<std::size_t>(a)];
-          if (c == 0 || c == n - 1) {
-            axis = a;
-            inward = c == 0 ? 1.0 : -1.0;
-          }
-        }
-        if (axis < 0) continue;
-        if (winner[i] >= 0)
-          throw std::invalid_argument("voxelizer '" + name + "': a surface reaches voxel (" + std::to_string(xyz[0]) +
-                                      ", " + std::to_string(xyz[1]) + ", " + std::to_string(xyz[2]) +
-                                      ") of the outermost layer, which is the absorbing shell");
-        voxel& v = sc[i];
-        v.kind = material::boundary;
-        v.reflectance = {0, 0, 0};
-        v.emission = {0, 0, 0};
-        v.normal = {0, 0, 0};
-        v.normal[static_cast<std::size_t>(axis)] = inward;
-      }
-    }
-    sc.validate();
-    return sc;
-  }
+  scene build(const std::string& name, bool absorbing_shell = true) const;
 
  private:
   struct element {
@@ -348,6 +290,67 @@ class voxelizer {
   std::vector<element> elements_;
   int next_group_ = 0;
 };
+
+template <int Deferred>
+scene voxelizer::build(const std::string& name, bool absorbing_shell) const {
+  const unsigned n = size_;
+  scene sc(name, 3, n);
+  const std::size_t count = sc.voxel_count();
+  std::vector<double> best(count, std::numeric_limits<double>::infinity());
+  std::vector<int> winner(count, -1);
+  for (std::size_t k = 0; k < elements_.size(); ++k)
+    for_each_met_voxel(elements_[k], [&](std::size_t i, const vec3& c) {
+      const double d = distance(elements_[k], c);
+      if (d < best[i]) {
+        best[i] = d;
+        winner[i] = static_cast<int>(k);
+      }
+    });
+  std::vector<vec3> normal_sum(count, vec3{0, 0, 0});
+  for (const element& e : elements_)
+    for_each_met_voxel(e, [&](std::size_t i, const vec3& c) {
+      if (winner[i] >= 0 && elements_[static_cast<std::size_t>(winner[i])].group == e.group)
+        normal_sum[i] = qrm::detail::vec_add(normal_sum[i], normal_at(e, c));
+    });
+  for (std::size_t i = 0; i < count; ++i) {
+    if (winner[i] < 0) continue;
+    const element& w = elements_[static_cast<std::size_t>(winner[i])];
+    voxel& v = sc[i];
+    v.kind = w.mat.kind;
+    v.reflectance = w.mat.reflectance;
+    v.emission = w.mat.emission;
+    v.lobe = w.mat.lobe;
+    const auto xyz = sc.coords(i);
+    v.normal = norm(normal_sum[i]) > 1e-9 ? normalized(normal_sum[i]) : normal_at(w, centre_of(xyz));
+  }
+  if (absorbing_shell) {
+    for (std::size_t i = 0; i < count; ++i) {
+      const auto xyz = sc.coords(i);
+      int axis = -1;
+      double inward = 0;
+      for (int a = 0; a < 3 && axis < 0; ++a) {
+        const unsigned c = xyz[static_cast<std::size_t>(a)];
+        if (c == 0 || c == n - 1) {
+          axis = a;
+          inward = c == 0 ? 1.0 : -1.0;
+        }
+      }
+      if (axis < 0) continue;
+      if (winner[i] >= 0)
+        throw std::invalid_argument("voxelizer '" + name + "': a surface reaches voxel (" + std::to_string(xyz[0]) +
+                                    ", " + std::to_string(xyz[1]) + ", " + std::to_string(xyz[2]) +
+                                    ") of the outermost layer, which is the absorbing shell");
+      voxel& v = sc[i];
+      v.kind = material::boundary;
+      v.reflectance = {0, 0, 0};
+      v.emission = {0, 0, 0};
+      v.normal = {0, 0, 0};
+      v.normal[static_cast<std::size_t>(axis)] = inward;
+    }
+  }
+  sc.validate();
+  return sc;
+}
 
 // ---------------------------------------------------------------------------------------------
 // The paper's scenes. Both are a room in the grid: one shell layer, then one-voxel walls whose
@@ -471,7 +474,7 @@ inline void add_cornell_room(voxelizer& vx, const qrm::detail::cornell_frame& fr
 //     white reflectance; emission defaults to the common RGB radiance (17, 12, 4).
 // Red wall at large x (seen on the left by box_scene_camera), green wall at x small.
 template <int = 0>
-inline scene cornell_box(unsigned size, const rgb& light_emission = {17, 12, 4}) {
+scene cornell_box(unsigned size, const rgb& light_emission = {17, 12, 4}) {
   qrm::detail::check_box_scene_size("cornell_box", size);
   const qrm::detail::cornell_frame fr(size);
   voxelizer vx(size);
@@ -489,7 +492,7 @@ inline scene cornell_box(unsigned size, const rgb& light_emission = {17, 12, 4})
 // on the left) and a small orange one (radius 70 mm, at x = 160, z = 200 mm, on the right).
 // Same room, shell and units as cornell_box.
 template <int = 0>
-inline scene two_spheres(unsigned size, const rgb& light_emission = {10, 10, 10}) {
+scene two_spheres(unsigned size, const rgb& light_emission = {10, 10, 10}) {
   qrm::detail::check_box_scene_size("two_spheres", size);
   const qrm::detail::cornell_frame fr(size);
   const surface_material grey{material::lambertian, {0.75, 0.75, 0.75}, {}, 0};
@@ -524,11 +527,11 @@ inline scene cornell_sphere(unsigned size, const surface_material& ball, const s
   return sc;
 }
 template <int = 0>
-inline scene cornell_mirror(unsigned size, const rgb& reflectance = {0.9, 0.9, 0.9}) {
+scene cornell_mirror(unsigned size, const rgb& reflectance = {0.9, 0.9, 0.9}) {
   return cornell_sphere(size, {material::specular, reflectance, {}, 0}, "cornell_mirror");
 }
 template <int = 0>
-inline scene cornell_glossy(unsigned size, double lobe = 1.0, const rgb& reflectance = {0.9, 0.9, 0.9}) {
+scene cornell_glossy(unsigned size, double lobe = 1.0, const rgb& reflectance = {0.9, 0.9, 0.9}) {
   if (!(lobe >= 0.0 && lobe <= glossy_lobe_max))
     throw std::invalid_argument("cornell_glossy: lobe " + std::to_string(lobe) + " outside [0, 4]");
   return cornell_sphere(size, {material::glossy, reflectance, {}, lobe}, "cornell_glossy");
@@ -559,7 +562,7 @@ inline rgb fog_reflectance_at(unsigned size, const rgb& rho_at_8) {
 // fog_reflectance_at(N, rho_at_8). Defaults: at 8^3 a fog voxel scatters 10% of the light
 // crossing it (the room's 5 voxels let 0.9^5 = 59% through unscattered) and absorbs 2%.
 template <int = 0>
-inline scene cornell_fog(unsigned size, double density_at_8 = 0.1, const rgb& rho_at_8 = {0.98, 0.98, 0.98}) {
+scene cornell_fog(unsigned size, double density_at_8 = 0.1, const rgb& rho_at_8 = {0.98, 0.98, 0.98}) {
   if (!(density_at_8 >= 0.0 && density_at_8 <= 1.0))
     throw std::invalid_argument("cornell_fog: density " + std::to_string(density_at_8) + " outside [0, 1]");
   for (int c = 0; c < 3; ++c)
@@ -603,3 +606,17 @@ inline camera box_scene_camera(unsigned size, unsigned width, unsigned height) {
 }
 
 }  // namespace qrm::render
+
+// This header's part of <qrm/render/compiled_render.hpp> (QRM_COMPILED_RENDER).
+#define QRM_DETAIL_VOXELIZE_INSTANCES(PREFIX)                       \
+  PREFIX scene voxelizer::build<0>(const std::string&, bool) const; \
+  PREFIX scene cornell_box<0>(unsigned, const rgb&);                \
+  PREFIX scene two_spheres<0>(unsigned, const rgb&);                \
+  PREFIX scene cornell_mirror<0>(unsigned, const rgb&);             \
+  PREFIX scene cornell_glossy<0>(unsigned, double, const rgb&);     \
+  PREFIX scene cornell_fog<0>(unsigned, double, const rgb&);
+#ifdef QRM_COMPILED_RENDER
+namespace qrm::render {
+QRM_DETAIL_VOXELIZE_INSTANCES(extern template)
+}  // namespace qrm::render
+#endif
