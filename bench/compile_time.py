@@ -13,8 +13,9 @@ Units: the umbrella <qrm/qrm.hpp> with an empty main; the README tour's typed ci
 only the headers it needs (circuit/compose, backends/dense, backends/measure), header-only and
 with QRM_COMPILED_BACKENDS (the backends compiled once elsewhere in the program: the unit
 <qrm/backends/compiled_backends.hpp>, also timed, is that once); and examples/typed_walk.cpp at
--O3 (time and peak memory), header-only and with QRM_COMPILED_BACKENDS and QRM_COMPILED_WALK (the
-walk's builders compiled once too: <qrm/walk/compiled_walk.hpp>, also timed).
+-O3 (time and peak memory), header-only and with the six QRM_COMPILED_ macros, as qrm's own build
+compiles it (every layer's builders compiled once elsewhere: <qrm/walk/compiled_walk.hpp>, the
+walk's, is also timed).
 
 g++ collects garbage once its front end holds more than --param ggc-min-heapsize (128 MiB on
 a machine with this much memory): a unit just above that line pays one collection (~0.3 s for
@@ -114,7 +115,8 @@ def main():
 
     tmp = tempfile.mkdtemp(prefix="qrm-compile-time-")
     separate = ["-DQRM_COMPILED_BACKENDS"]
-    separate_walk = separate + ["-DQRM_COMPILED_WALK"]
+    # As qrm's own build compiles examples/typed_walk.cpp: every layer's builders compiled once.
+    separate_all = ["-DQRM_COMPILED_" + layer for layer in ("BACKENDS", "CIRCUIT", "ESTIMATION", "WALK", "RENDER", "IO")]
     units = {"umbrella": (UMBRELLA, []), "tour_circuit": (tour_circuit(), []),
              "tour_circuit, QRM_COMPILED_BACKENDS": (tour_circuit(), separate),
              "compiled_backends.hpp": ("#include <qrm/backends/compiled_backends.hpp>\n", []),
@@ -143,7 +145,7 @@ def main():
                     if compiler == "g++" and not name.startswith("compiled_") else "")
             print(f"| {version(compiler)} | {name} (-O0) | {best_q:.2f} s | {best_s:.2f} s ({n} headers) | "
                   f"**{best_q / best_s:.2f}x** | {heap} |")
-        for flags in ([], separate_walk) if not args.no_typed_walk else ():
+        for flags in ([], separate_all) if not args.no_typed_walk else ():
             src = os.path.join(ROOT, "examples", "typed_walk.cpp")
             best, peak = float("inf"), 0.0
             for _ in range(max(1, args.repeat // 2)):
@@ -154,7 +156,7 @@ def main():
                     sys.exit("compile_time.py: typed_walk.cpp failed to compile:\n" + r.stderr[-2000:])
                 secs, kib = r.stderr.strip().splitlines()[-1].split()
                 best, peak = min(best, float(secs)), max(peak, int(kib) / 1024)
-            how = ", QRM_COMPILED_BACKENDS, QRM_COMPILED_WALK" if flags else ""
+            how = ", the six QRM_COMPILED_ macros" if flags else ""
             print(f"| {version(compiler)} | examples/typed_walk.cpp (-O3{how}) | {best:.2f} s, {peak:.0f} MiB | | | |")
 
 

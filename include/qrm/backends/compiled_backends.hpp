@@ -10,9 +10,8 @@
 
 #include "compact.hpp"
 #include "dense.hpp"
-// The kernels, which dense.hpp leaves out when QRM_COMPILED_BACKENDS is defined.
-#include "detail/dense_blocked.hpp"
-#include "detail/dense_kernels.hpp"
+// The dense members and kernels, which dense.hpp leaves out when QRM_COMPILED_BACKENDS is defined.
+#include "detail/dense_members.hpp"
 
 namespace qrm {
 QRM_DETAIL_DENSE_INSTANCES(template)

@@ -6,11 +6,11 @@
 #include <array>
 #include <cstddef>
 #include <stdexcept>
-#include <string>
 #include <tuple>
 #include <type_traits>
 #include <utility>
 
+#include "../support/detail/formatted_error.hpp"
 #include "../support/detail/meta.hpp"
 #include "gates.hpp"
 #include "layout.hpp"
@@ -192,8 +192,8 @@ void run(B& backend, const C& c) {
     needed = c.num_qubits();  // a typed circuit on a layout with dynamic widths
   }
   if (backend.num_qubits() < needed)
-    throw std::invalid_argument("run: the circuit needs " + std::to_string(needed) + " qubits but the backend has " +
-                                std::to_string(backend.num_qubits()));
+    detail::throw_formatted<std::invalid_argument>("run: the circuit needs %zu qubits but the backend has %zu", needed,
+                                                   static_cast<std::size_t>(backend.num_qubits()));
   c.emit(backend);
 }
 

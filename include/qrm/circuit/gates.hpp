@@ -17,10 +17,10 @@
 #include <limits>
 #include <span>
 #include <stdexcept>
-#include <string>
 #include <utility>
 #include <vector>
 
+#include "../support/detail/formatted_error.hpp"
 #include "detail/gate_base.hpp"
 #include "layout.hpp"
 #include "ops.hpp"
@@ -32,7 +32,7 @@ namespace detail {
 template <int = 0>
 inline double checked_angle(const char* gate, double theta) {
   if (!std::isfinite(theta))
-    throw std::invalid_argument(std::string(gate) + ": angle must be finite, got " + std::to_string(theta));
+    throw_formatted<std::invalid_argument>("%s: angle must be finite, got %f", gate, theta);
   return theta;
 }
 
@@ -166,7 +166,7 @@ template <int = 0>
 inline gate1 checked_gate1(const gate1& g, bool need_real) {
   const double err = unitarity_error(dense_matrix::of(g));
   if (!(err <= 1e-10))
-    throw std::invalid_argument("u: the 2x2 matrix is not unitary (max |U^dagger U - I| = " + std::to_string(err) + ")");
+    throw_formatted<std::invalid_argument>("u: the 2x2 matrix is not unitary (max |U^dagger U - I| = %f)", err);
   if (need_real && !g.is_real()) throw std::invalid_argument("real_u: the 2x2 matrix has an imaginary part");
   return g;
 }
@@ -189,19 +189,17 @@ template <int = 0>
 inline dense_matrix checked_unitary(dense_matrix m, std::size_t k, bool need_real, const char* what) {
   const std::size_t dim = std::size_t{1} << k;
   if (m.dim != dim || m.data.size() != dim * dim)
-    throw std::invalid_argument(std::string(what) + ": matrix is " + std::to_string(m.dim) + "x" +
-                                std::to_string(m.dim) + " but the targets need " + std::to_string(dim) + "x" +
-                                std::to_string(dim));
+    throw_formatted<std::invalid_argument>("%s: matrix is %zux%zu but the targets need %zux%zu", what, m.dim, m.dim, dim,
+                                           dim);
   for (const complex& z : m.data)
     if (!std::isfinite(z.real()) || !std::isfinite(z.imag()))
-      throw std::invalid_argument(std::string(what) + ": matrix has a non-finite entry");
+      throw_formatted<std::invalid_argument>("%s: matrix has a non-finite entry", what);
   if (need_real && !m.is_real())
-    throw std::invalid_argument(std::string(what) + ": matrix has an imaginary part; use the complex form");
+    throw_formatted<std::invalid_argument>("%s: matrix has an imaginary part; use the complex form", what);
   // 1e-10 * dim: rows of a unitary built in double precision sum dim products.
   const double err = unitarity_error(m);
   if (!(err <= 1e-10 * static_cast<double>(dim)))
-    throw std::invalid_argument(std::string(what) + ": matrix is not unitary (max |U^dagger U - I| = " +
-                                std::to_string(err) + ")");
+    throw_formatted<std::invalid_argument>("%s: matrix is not unitary (max |U^dagger U - I| = %f)", what, err);
   return m;
 }
 }  // namespace detail
@@ -265,8 +263,8 @@ struct add_value : detail::block_gate_base<true, 1, detail::type_list<Reg>, Ctrl
   add_value() = default;
   explicit add_value(std::int64_t c) : constant(c) {
     if (k < 63 && (c >= (std::int64_t{1} << k) || c <= -(std::int64_t{1} << k)))
-      throw std::invalid_argument("add_value: constant " + std::to_string(c) + " does not fit a " +
-                                  std::to_string(k) + "-qubit register");
+      detail::throw_formatted<std::invalid_argument>("add_value: constant %lld does not fit a %zu-qubit register",
+                                                     static_cast<long long>(c), k);
   }
   template <class L, gate_sink S>
   void emit(S& sink) const {
@@ -283,8 +281,8 @@ namespace detail {
 template <int = 0>
 inline void check_select(std::uint64_t select, std::size_t m, const char* what) {
   if (m < 64 && select > max_value_of_width(m))
-    throw std::invalid_argument(std::string(what) + ": select value " + std::to_string(select) + " does not fit " +
-                                std::to_string(m) + " select qubits");
+    throw_formatted<std::invalid_argument>("%s: select value %llu does not fit %zu select qubits", what,
+                                           static_cast<unsigned long long>(select), m);
 }
 }  // namespace detail
 
@@ -300,11 +298,10 @@ struct mux_ry : detail::block_gate_base<true, detail::pow2_saturated(detail::sel
 
   std::vector<mux1_entry> entries;
   mux_ry() = default;
-  explicit mux_ry(std::span<const std::pair<std::uint64_t, double>> angles) {
-    entries.reserve(angles.size());
-    for (auto [value, theta] : angles) {
-      detail::check_select(value, m, "mux_ry");
-      entries.push_back({value, gate::ry(detail::checked_angle("mux_ry", theta))});
+  explicit mux_ry(std::span<const std::pair<std::uint64_t, double>> angles) : entries(angles.size()) {
+    for (std::size_t i = 0; i < angles.size(); ++i) {
+      detail::check_select(angles[i].first, m, "mux_ry");
+      entries[i] = {angles[i].first, gate::ry(detail::checked_angle("mux_ry", angles[i].second))};
     }
   }
   mux_ry(std::initializer_list<std::pair<std::uint64_t, double>> angles)
@@ -347,8 +344,8 @@ struct basic_mux_unitary
     for (const auto& e : entries) {
       detail::check_select(e.select, m, what);
       if (e.matrix >= matrices.size())
-        throw std::invalid_argument(std::string(what) + ": entry names matrix " + std::to_string(e.matrix) +
-                                    " of " + std::to_string(matrices.size()));
+        detail::throw_formatted<std::invalid_argument>("%s: entry names matrix %u of %zu", what,
+                                                       static_cast<unsigned>(e.matrix), matrices.size());
     }
   }
 

@@ -135,6 +135,7 @@ inline dense_matrix adjoint(const dense_matrix& m) {
   return r;
 }
 
+template <int = 0>
 inline dense_matrix operator*(const dense_matrix& a, const dense_matrix& b) {
   if (a.dim != b.dim) throw std::invalid_argument("dense_matrix product: dimensions differ");
   dense_matrix r(a.dim);

@@ -253,8 +253,8 @@ class basic_program {
 using program = basic_program<>;
 
 // run(backend, program): programs are checked at run time (width, and real vs complex).
-template <class B>
-void run(B& backend, const program& p) {
+template <class B, int Deferred>
+void run(B& backend, const basic_program<Deferred>& p) {
   if (backend.num_qubits() < p.width())
     throw std::invalid_argument("run: the program needs " + std::to_string(p.width()) + " qubits but the backend has " +
                                 std::to_string(backend.num_qubits()));

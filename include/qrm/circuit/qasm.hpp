@@ -60,6 +60,7 @@ struct qasm_options {
 // A malformed OpenQASM input: the message starts with `qasm:LINE:COLUMN:`.
 class qasm_error : public std::invalid_argument {
  public:
+  template <int = 0>
   qasm_error(std::size_t line, std::size_t column, const std::string& what)
       : std::invalid_argument("qasm:" + std::to_string(line) + ":" + std::to_string(column) + ": " + what),
         line_(line),

@@ -156,6 +156,7 @@ inline void remove_temporary_files_on_signals() {
 // naming the file being written and the errno text.
 class file_sink {
  public:
+  template <int = 0>
   file_sink(std::FILE* f, std::filesystem::path target) : f_(f), target_(std::move(target)) {}
   file_sink(const file_sink&) = delete;
   file_sink& operator=(const file_sink&) = delete;

@@ -54,6 +54,7 @@ class image {
   image() = default;
   // image(width, height, fill): every pixel set to `fill`; width and height both zero or both
   // positive.
+  template <int = 0>
   image(std::size_t width, std::size_t height, rgb fill = {}) : width_(width), height_(height) {
     if ((width == 0) != (height == 0))
       throw std::invalid_argument("image: size " + detail::size_text(width, height) +

@@ -90,6 +90,7 @@ namespace qrm::io {
 class progress {
  public:
   // progress(label, total, options): starts the clock. total = 0 is allowed (shown as complete).
+  template <int = 0>
   progress(std::string label, std::uint64_t total, progress_options options = {})
       : label_(std::move(label)), total_(total), options_(options), start_(clock::now()) {
     if (options_.out == nullptr) options_.quiet = true;

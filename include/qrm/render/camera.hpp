@@ -25,6 +25,7 @@ struct camera_ray {
 class camera {
  public:
   // camera(position, look_at, up, vertical_fov_degrees, width, height)
+  template <int = 0>
   camera(const vec3& position, const vec3& look_at, const vec3& up, double vertical_fov_degrees, unsigned width,
          unsigned height)
       : position_(position), vfov_(vertical_fov_degrees), width_(width), height_(height) {

@@ -228,6 +228,7 @@ class radiance_table {
   // applies(model): whether the walker's states are (voxel, direction) pairs.
   static bool applies(const walk_model& m) { return m.march() == march_mode::surface || m.fractional_bits() == 0; }
 
+  template <int = 0>
   radiance_table(const qrm::detail::transition_table& t, unsigned steps, unsigned threads = 0)
       : d_(t.model().direction_count()) {
     const walk_model& m = t.model();

@@ -113,6 +113,7 @@ class scene {
  public:
   scene() = default;
   // An all-air scene of size^dims voxels; size must be a power of two >= 2, dims 2 or 3.
+  template <int = 0>
   scene(std::string name, unsigned dims, unsigned size) : name_(std::move(name)), dims_(dims), size_(size) {
     if (dims != 2 && dims != 3)
       throw std::invalid_argument("scene: dims must be 2 or 3, got " + std::to_string(dims));

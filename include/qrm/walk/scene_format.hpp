@@ -87,6 +87,7 @@ inline std::string name_from_source(const std::string& source) {
 
 class scene_parser {
  public:
+  template <int = 0>
   scene_parser(std::string_view text, std::string source) : source_(std::move(source)) {
     std::string line;
     std::istringstream in{std::string(text)};

@@ -120,6 +120,7 @@ class select_lookup {
  public:
   select_lookup() = default;
   // ids[i] belongs to select value values[i].
+  template <int = 0>
   select_lookup(std::span<const qubit_index> select,
                 const std::vector<std::pair<std::uint64_t, std::int32_t>>& value_ids)
       : select_(select.begin(), select.end()) {

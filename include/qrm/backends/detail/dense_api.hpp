@@ -1,6 +1,6 @@
 // qrm/backends/detail/dense_api.hpp: what state_vector (backends/dense.hpp) calls in the dense
 // kernels: their options and the declarations of their entry points. The definitions are in
-// dense_kernels.hpp and dense_blocked.hpp, which dense.hpp includes unless QRM_COMPILED_BACKENDS
+// dense_kernels.hpp and dense_blocked.hpp, which dense.hpp includes (through detail/dense_members.hpp) unless QRM_COMPILED_BACKENDS
 // says they are compiled in another file (compiled_backends.hpp): then a source file that runs a
 // state_vector parses none of the kernels.
 #pragma once
