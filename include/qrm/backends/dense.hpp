@@ -29,12 +29,16 @@
 #include "detail/aligned_allocator.hpp"
 #include "detail/bits.hpp"
 #include "detail/dense_api.hpp"
-#include "detail/validate.hpp"
 #include "detail/scalar.hpp"
 #include "../circuit/ops.hpp"
 #include "../circuit/program.hpp"
 
 namespace qrm {
+
+namespace detail {
+template <class Label, class Scalar>
+struct op_checks;  // detail/validate.hpp, which only the members' file (detail/dense_members.hpp) needs
+}  // namespace detail
 
 struct dense_options {
   unsigned threads = 0;                               // 0: every hardware thread; 1: never spawn work
@@ -156,7 +160,7 @@ class state_vector {
   std::vector<double> distribution(std::span<const qubit_index> bits) const;
 
  private:
-  detail::op_checks<std::uint64_t, Scalar> checks() const { return {n_, "state_vector"}; }
+  detail::op_checks<std::uint64_t, Scalar> checks() const;
   unsigned n_;
   std::vector<Scalar, detail::huge_page_allocator<Scalar>> amps_;
   detail::exec_policy ex_;

@@ -5,11 +5,12 @@
 #include <cstdint>
 #include <span>
 #include <stdexcept>
-#include <string>
 #include <vector>
 
 #include "../circuit/layout.hpp"
 #include "backend.hpp"
+#include "../support/detail/formatted_error.hpp"
+#include "../support/detail/meta.hpp"
 #include "../support/random.hpp"
 
 namespace qrm {
@@ -30,16 +31,16 @@ std::vector<double> distribution(const B& state) {
 
 // sample_counts(p, shots, g): multinomial counts for `shots` draws from probabilities p (which
 // must sum to 1 within 1e-9), drawn as a chain of binomials so the cost is O(|p|) not O(shots).
-template <int = 0>
+template <int D = 0>
 inline std::vector<std::uint64_t> sample_counts(std::span<const double> p, std::uint64_t shots, rng& g) {
   double total = 0;
   for (double x : p) {
-    if (!(x >= 0.0)) throw std::invalid_argument("sample_counts: probability " + std::to_string(x) + " is negative or NaN");
+    if (!(x >= 0.0)) detail::throw_formatted<std::invalid_argument>("sample_counts: probability %f is negative or NaN", x);
     total += x;
   }
   if (!(std::abs(total - 1.0) <= 1e-9))
-    throw std::invalid_argument("sample_counts: probabilities sum to " + std::to_string(total) + ", not 1");
-  std::vector<std::uint64_t> counts(p.size(), 0);
+    detail::throw_formatted<std::invalid_argument>("sample_counts: probabilities sum to %f, not 1", total);
+  detail::deferred<std::vector<std::uint64_t>, D> counts(p.size(), 0);
   std::uint64_t left = shots;
   double mass = total;
   for (std::size_t v = 0; v < p.size() && left > 0; ++v) {

@@ -6,7 +6,6 @@
 #include <array>
 #include <cstddef>
 #include <stdexcept>
-#include <tuple>
 #include <type_traits>
 #include <utility>
 
@@ -30,10 +29,35 @@ concept static_gate = requires(const G& g) {
 template <class G>
 using adjoint_t = decltype(std::declval<const G&>().adjoint());
 
+namespace detail {
+// A sequence's gates, each in a base of its own: std::tuple's constructors and std::apply cost a
+// typed circuit's file more to compile than the gates do.
+template <std::size_t I, class G>
+struct seq_slot {
+  G gate;
+};
+template <class Indices, class... G>
+struct seq_slots;
+template <std::size_t... I, class... G>
+struct seq_slots<std::index_sequence<I...>, G...> : seq_slot<I, G>... {
+  seq_slots() = default;
+  explicit seq_slots(G... g) : seq_slot<I, G>{std::move(g)}... {}
+  template <class L, class S>
+  void emit(S& sink) const {
+    (static_cast<const seq_slot<I, G>&>(*this).gate.template emit<L>(sink), ...);
+  }
+};
+// seq_gate<I>(slots): the I-th gate (the base seq_slot<I, G> is found by deduction).
+template <std::size_t I, class G>
+const G& seq_gate(const seq_slot<I, G>& slot) {
+  return slot.gate;
+}
+}  // namespace detail
+
 // seq<G...>: the gates in order (a gate itself, so sequences nest).
 template <static_gate... G>
 struct seq {
-  std::tuple<G...> gates;
+  detail::seq_slots<std::index_sequence_for<G...>, G...> gates;
 
   seq() = default;
   explicit seq(G... g) : gates(std::move(g)...) {}
@@ -52,16 +76,19 @@ struct seq {
   }
   template <class L, gate_sink S>
   void emit(S& sink) const {
-    std::apply([&](const G&... g) { (g.template emit<L>(sink), ...); }, gates);
+    gates.template emit<L>(sink);
   }
   auto adjoint() const { return reversed_adjoint(std::index_sequence_for<G...>{}); }
 
  private:
+  template <std::size_t I>
+  const auto& gate() const {
+    return detail::seq_gate<I>(gates);
+  }
   template <std::size_t... I>
   auto reversed_adjoint(std::index_sequence<I...>) const {
     constexpr std::size_t n = sizeof...(G);
-    return seq<adjoint_t<std::tuple_element_t<n - 1 - I, std::tuple<G...>>>...>(
-        std::get<n - 1 - I>(gates).adjoint()...);
+    return seq<adjoint_t<std::remove_cvref_t<decltype(gate<n - 1 - I>())>>...>(gate<n - 1 - I>().adjoint()...);
   }
 };
 

@@ -398,7 +398,7 @@ void emit_uniform_preparation(S& sink, std::span<const qubit_index> bits, std::u
       if (angle_for(i, 0, theta)) sink.apply_gate1(gate::ry(sign * theta), bits[i], controls);
       return;
     }
-    std::vector<mux1_entry> entries;
+    detail::deferred_by<std::vector<mux1_entry>, S> entries;
     const std::uint64_t prefixes = std::uint64_t{1} << (k - 1 - i);
     for (std::uint64_t p = 0; p < prefixes; ++p) {
       double theta = 0;

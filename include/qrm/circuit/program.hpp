@@ -87,9 +87,9 @@ void emit_op(const op::any& o, S& sink) {
 }
 
 // Qubits an op reads or writes.
-template <int = 0>
-inline std::vector<qubit_index> op_qubits(const op::any& o) {
-  std::vector<qubit_index> q;
+template <int D = 0>
+inline std::vector<qubit_index> op_qubits(const detail::deferred<op::any, D>& o) {
+  detail::deferred<std::vector<qubit_index>, D> q;
   visit_op(o, [&](const auto& x) {
         using T = std::decay_t<decltype(x)>;
         if constexpr (std::is_same_v<T, op::gate1_op>) {
@@ -110,8 +110,8 @@ inline std::vector<qubit_index> op_qubits(const op::any& o) {
   return q;
 }
 
-template <int = 0>
-inline bool op_is_real(const op::any& o) {
+template <int D = 0>
+inline bool op_is_real(const detail::deferred<op::any, D>& o) {
   return visit_op(o, [](const auto& x) {
         using T = std::decay_t<decltype(x)>;
         if constexpr (std::is_same_v<T, op::gate1_op>) {
@@ -128,9 +128,9 @@ inline bool op_is_real(const op::any& o) {
       });
 }
 
-template <int = 0>
-inline op::any op_adjoint(const op::any& o) {
-  return visit_op(o, [](const auto& x) -> op::any {
+template <int D = 0>
+inline detail::deferred<op::any, D> op_adjoint(const detail::deferred<op::any, D>& o) {
+  return visit_op(o, [](const auto& x) -> detail::deferred<op::any, D> {
         using T = std::decay_t<decltype(x)>;
         T r = x;
         if constexpr (std::is_same_v<T, op::gate1_op>) {
@@ -154,6 +154,8 @@ template <int Deferred = 0>
 class basic_program {
   template <class T>
   using list = detail::deferred<std::vector<T>, Deferred>;
+  template <class T>
+  using op_t = detail::deferred<T, Deferred>;
 
  public:
   basic_program() = default;
@@ -181,10 +183,10 @@ class basic_program {
   const char* layer_of(std::size_t op) const { return op < layers_.size() ? layers_[op] : nullptr; }
   const std::vector<const char*>& layers() const { return layers_; }
   bool is_real() const {
-    return std::all_of(ops_.begin(), ops_.end(), [](const op::any& o) { return op_is_real(o); });
+    return std::all_of(ops_.begin(), ops_.end(), [](const auto& o) { return op_is_real(o); });
   }
 
-  void push(op::any o) {
+  void push(detail::deferred<op::any, Deferred> o) {
     for (qubit_index q : op_qubits(o))
       if (q >= width_)
         throw std::invalid_argument("program: op uses qubit " + std::to_string(q) + " but the program has " +
@@ -201,22 +203,22 @@ class basic_program {
 
   // gate_sink: record.
   void apply_gate1(const gate1& g, qubit_index t, std::span<const control> cs) {
-    push(op::gate1_op{g, t, {cs.begin(), cs.end()}});
+    push(op_t<op::gate1_op>{g, t, {cs.begin(), cs.end()}});
   }
   void apply_unitary(const dense_matrix& m, std::span<const qubit_index> ts, std::span<const control> cs) {
-    push(op::unitary_op{m, {ts.begin(), ts.end()}, {cs.begin(), cs.end()}});
+    push(op_t<op::unitary_op>{m, {ts.begin(), ts.end()}, {cs.begin(), cs.end()}});
   }
   void apply_add(std::int64_t c, std::span<const qubit_index> bits, std::span<const control> cs) {
-    push(op::add_op{c, {bits.begin(), bits.end()}, {cs.begin(), cs.end()}});
+    push(op_t<op::add_op>{c, {bits.begin(), bits.end()}, {cs.begin(), cs.end()}});
   }
   void apply_mux1(std::span<const mux1_entry> es, qubit_index t, std::span<const qubit_index> sel,
                   std::span<const control> cs) {
-    push(op::mux1_op{{es.begin(), es.end()}, t, {sel.begin(), sel.end()}, {cs.begin(), cs.end()}});
+    push(op_t<op::mux1_op>{{es.begin(), es.end()}, t, {sel.begin(), sel.end()}, {cs.begin(), cs.end()}});
   }
   void apply_mux_unitary(std::span<const dense_matrix> ms, std::span<const mux_unitary_entry> es,
                          std::span<const qubit_index> ts, std::span<const qubit_index> sel,
                          std::span<const control> cs) {
-    push(op::mux_unitary_op{{ms.begin(), ms.end()}, {es.begin(), es.end()}, {ts.begin(), ts.end()},
+    push(op_t<op::mux_unitary_op>{{ms.begin(), ms.end()}, {es.begin(), es.end()}, {ts.begin(), ts.end()},
                             {sel.begin(), sel.end()}, {cs.begin(), cs.end()}});
   }
 

@@ -24,6 +24,11 @@
 namespace qrm {
 
 template <class Scalar>
+detail::op_checks<std::uint64_t, Scalar> state_vector<Scalar>::checks() const {
+  return {n_, "state_vector"};
+}
+
+template <class Scalar>
 state_vector<Scalar>::state_vector(std::size_t num_qubits, dense_options opt) : n_(static_cast<unsigned>(num_qubits)) {
   const long double need = bytes_for(num_qubits);
   const std::uint64_t limit = opt.max_bytes ? opt.max_bytes : detail::physical_memory_bytes();

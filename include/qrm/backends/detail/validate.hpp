@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "../../circuit/ops.hpp"
+#include "../../support/detail/meta.hpp"
 #include "labels.hpp"
 #include "scalar.hpp"
 
@@ -29,7 +30,7 @@ inline void check_matrix_dim(const dense_matrix& m, std::size_t k, const char* w
 template <class E>
 void check_select_entries(std::span<const E> entries, std::size_t m, const char* what) {
   if (m > 30) throw std::invalid_argument(std::string(what) + ": at most 30 select qubits");
-  std::vector<std::uint64_t> values;
+  deferred_by<std::vector<std::uint64_t>, E> values;
   values.reserve(entries.size());
   for (const auto& e : entries) {
     if (e.select >= (std::uint64_t{1} << m))

@@ -92,6 +92,9 @@ struct deferred_type {
 };
 template <class T, auto Tag>
 using deferred = typename deferred_type<T, Tag>::type;
+// deferred_by<T, Tag>: the same, tagged by a type parameter.
+template <class T, class Tag>
+using deferred_by = deferred<T, sizeof(Tag*)>;
 
 // Always-false helper for static_assert in discarded branches.
 template <class...>
