@@ -131,6 +131,16 @@ TEST_CASE("run-time errors name the problem") {
         std::string::npos);
   CHECK(error_of([] { qrm::mux_ry<out, dir>{{9, 0.1}}; }).find("select value 9 does not fit 3 select qubits") !=
         std::string::npos);
+  // Programs and run: messages formatted with snprintf (detail::throw_formatted) keep their numbers.
+  qrm::program six(6);
+  CHECK(error_of([&] { six.apply_gate1(qrm::gate::x(), 9, {}); })
+            .find("program: op uses qubit 9 but the program has 6 qubits") != std::string::npos);
+  qrm::program phased(1);
+  phased.apply_gate1(qrm::gate::x(), 0, {});
+  phased.apply_gate1(qrm::gate::phase(0.1), 0, {});
+  CHECK(error_of([&] { qrm::run(s, phased); }).find("run: op 1 has a complex matrix") != std::string::npos);
+  CHECK(error_of([] { qrm::add_value<dir>{9}; }).find("add_value: constant 9 does not fit a 3-qubit register") !=
+        std::string::npos);
   CHECK(error_of([] { qrm::state_vector<std::complex<double>>(40); }).find("40 qubits of complex<double> need 16 TiB") !=
         std::string::npos);
   qrm::dense_options small;

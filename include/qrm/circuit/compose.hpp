@@ -81,14 +81,10 @@ struct seq {
   auto adjoint() const { return reversed_adjoint(std::index_sequence_for<G...>{}); }
 
  private:
-  template <std::size_t I>
-  const auto& gate() const {
-    return detail::seq_gate<I>(gates);
-  }
   template <std::size_t... I>
   auto reversed_adjoint(std::index_sequence<I...>) const {
     constexpr std::size_t n = sizeof...(G);
-    return seq<adjoint_t<std::remove_cvref_t<decltype(gate<n - 1 - I>())>>...>(gate<n - 1 - I>().adjoint()...);
+    return seq<decltype(detail::seq_gate<n - 1 - I>(gates).adjoint())...>(detail::seq_gate<n - 1 - I>(gates).adjoint()...);
   }
 };
 

@@ -10,11 +10,11 @@
 #include <cstdint>
 #include <span>
 #include <stdexcept>
-#include <string>
 #include <utility>
 #include <variant>
 #include <vector>
 
+#include "../support/detail/formatted_error.hpp"
 #include "layout.hpp"
 #include "ops.hpp"
 #include "../support/detail/meta.hpp"
@@ -189,8 +189,8 @@ class basic_program {
   void push(detail::deferred<op::any, Deferred> o) {
     for (qubit_index q : op_qubits(o))
       if (q >= width_)
-        throw std::invalid_argument("program: op uses qubit " + std::to_string(q) + " but the program has " +
-                                    std::to_string(width_) + " qubits");
+        detail::throw_formatted<std::invalid_argument>("program: op uses qubit %u but the program has %zu qubits",
+                                                       static_cast<unsigned>(q), width_);
     ops_.push_back(std::move(o));
     layers_.push_back(current_layer_);
   }
@@ -258,14 +258,14 @@ using program = basic_program<>;
 template <class B, int Deferred>
 void run(B& backend, const basic_program<Deferred>& p) {
   if (backend.num_qubits() < p.width())
-    throw std::invalid_argument("run: the program needs " + std::to_string(p.width()) + " qubits but the backend has " +
-                                std::to_string(backend.num_qubits()));
+    detail::throw_formatted<std::invalid_argument>("run: the program needs %zu qubits but the backend has %zu", p.width(),
+                                                   static_cast<std::size_t>(backend.num_qubits()));
   if constexpr (requires { B::is_complex; }) {
     if constexpr (!B::is_complex) {
       for (std::size_t i = 0; i < p.ops().size(); ++i)
         if (!op_is_real(p.ops()[i]))
-          throw std::invalid_argument("run: op " + std::to_string(i) +
-                                      " has a complex matrix but the backend stores real amplitudes");
+          detail::throw_formatted<std::invalid_argument>(
+              "run: op %zu has a complex matrix but the backend stores real amplitudes", i);
     }
   }
   if constexpr (requires { backend.run_ops(p.ops()); })
