@@ -48,22 +48,25 @@ TEST_CASE_TEMPLATE("single-qubit gates on 14 qubits match the reference at every
   }
 }
 
-// complex<float> 1-qubit gates on qubits 0-2 take a kernel per vector level and arithmetic (dense_pairs.hpp:
-// float lanes at AVX2 / AVX-512, widened pairs in double arithmetic at AVX2, lanes at AVX-512), each
-// only where no control splits its vector: every level asked for, both arithmetics, one and two
-// threads, controls below, between and above, against the reference (float rounding: 2e-5).
-TEST_CASE("complex<float> 1-qubit gates on qubits 0-2 match the reference at every level and arithmetic") {
-  using cf = std::complex<float>;
-  using T = backend_traits<qrm::state_vector<cf>>;
+// Complex 1-qubit gates on qubits 0-3 take a kernel per scalar, vector level and arithmetic
+// (complex<float>, dense_pairs.hpp: float lanes at AVX2 / AVX-512, widened pairs in double
+// arithmetic at AVX2; both scalars: lanes at AVX-512 on qubits 0-1, the matrix kernel above, the
+// pair loop at the generic level), each only where no control splits its vector: every level
+// asked for, both arithmetics, one and two threads, controls below, between and above, against
+// the reference (float rounding: 2e-5). 14 qubits, so that the matrix kernel's path is taken
+// under two controls.
+TEST_CASE_TEMPLATE("complex 1-qubit gates on qubits 0-3 match the reference at every level and arithmetic", S,
+                   std::complex<float>, std::complex<double>) {
+  using T = backend_traits<qrm::state_vector<S>>;
   qrm::rng g(13);
-  const std::size_t n = 7;
+  const std::size_t n = 14;
   const std::vector<qrm::gate1> gates = {qrm::gate::h(), qrm::gate::ry(0.7), random_gate1_nonunitary(g, true)};
-  const std::vector<std::vector<control>> control_sets = {{}, {{0, true}}, {{1, false}}, {{2, true}}, {{3, true}, {6, false}}};
+  const std::vector<std::vector<control>> control_sets = {{}, {{0, true}}, {{1, false}}, {{2, true}}, {{3, true}, {13, false}}};
   std::size_t cases = 0;
   for (qrm::simd_level level : {qrm::simd_level::generic, qrm::simd_level::avx2, qrm::simd_level::avx512})
     for (const qrm::float_math math : {qrm::float_math::double_precision, qrm::float_math::single_precision})
       for (unsigned threads : {1u, 2u})
-        for (qubit_index t = 0; t < 3; ++t)
+        for (qubit_index t = 0; t < 4; ++t)
           for (const auto& cs : control_sets) {
             if (!cs.empty() && cs[0].qubit == t) continue;
             for (const auto& gate : gates) {
@@ -71,7 +74,7 @@ TEST_CASE("complex<float> 1-qubit gates on qubits 0-2 match the reference at eve
               o.threads = threads;
               o.simd = level;
               o.math = math;
-              qrm::state_vector<cf> b(n, o);
+              qrm::state_vector<S> b(n, o);
               b.set_min_parallel(1);
               T::load(b, random_state(n, g, true));
               reference_state ref(n);
@@ -85,7 +88,7 @@ TEST_CASE("complex<float> 1-qubit gates on qubits 0-2 match the reference at eve
               ++cases;
             }
           }
-  CHECK(cases == 3 * 2 * 2 * (3 * 4) * 3);
+  CHECK(cases == 3 * 2 * 2 * (4 * 4) * 3);
 }
 
 // Partners 2^28 bytes apart or more (target 25 of a 26-qubit complex<float> state) take the

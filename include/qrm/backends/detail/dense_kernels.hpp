@@ -272,28 +272,39 @@ void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cm
       float* p = reinterpret_cast<float*>(a);
       for_each_run(sc, ex, 2, [&](std::uint64_t i0, std::uint64_t len) { low_target_pairs_widened_avx2(p + 2 * i0, len, t, c); });
       return;
-    } else if (avx512_kernels && specialized_kernels && resolve_simd(ex.simd) == simd_level::avx512 && t < 2 &&
-               (cmask & 3) == 0 && n >= 2) {
-      // Double arithmetic at AVX-512, target 0 or 1: four amplitudes per register, the target a lane
-      // (dense_lanes.hpp), where the pair loop below widened one scalar at a time.
+    }
+#endif
+  }
+#ifdef QRM_HAS_CPU_DISPATCH
+  if constexpr (scalar_traits<S>::is_complex && avx512_kernels && specialized_kernels) {
+    // Double arithmetic at AVX-512, target 0 or 1: four amplitudes per register, the target a
+    // lane (dense_lanes.hpp), where the pair loop below takes one amplitude at a time
+    // (complex<float>: each scalar widened on its own; complex<double>: 0.78-0.81 ns per
+    // amplitude in a cache-sized state, the lanes 0.25-0.26, as the matrix kernel from target 4).
+    if (!float_arithmetic<S>(ex) && resolve_simd(ex.simd) == simd_level::avx512 && t < 2 && (cmask & 3) == 0 &&
+        n >= 2) {
       const dense_matrix m = dense_matrix::of(g);
       const qubit_index target[] = {static_cast<qubit_index>(t)};
       const subspace bases(n, cmask, cvalue);
       const auto chunks = [&](auto&& f) { for_each_chunk(bases, ex, 2, f); };
-      if constexpr (avx512_kernels && specialized_kernels) return lane_mix<S, double, 4, 2>(a, m, target, bases, chunks);
+      return lane_mix<S, double, 4, 2>(a, m, target, bases, chunks);
     }
-#endif
   }
+#endif
   // Where the matrix kernel's vectors beat the scalar pair loop below. complex<float>: above
   // target 0, 1.5-3x (floats widened to double, two or four bases per register; 2^22
   // amplitudes, one thread); at target 0 (generic level) the loop is already one vectorised
-  // stream. complex<double>: from target 4, where the loop takes its prefetching form, 0.38-0.43
-  // against 0.75-0.78 ns per amplitude in a cache-sized state (2^15, as in a chunked run), level
-  // from memory; at target 3 the loop is faster, 0.43 against 0.48 (AVX2 AMD EPYC VM,
-  // 2026-12-06). Small states keep the loop: the matrix kernel's setup would dominate.
-  constexpr unsigned matrix_kernel_from = std::is_same_v<S, std::complex<float>>    ? 1
-                                          : std::is_same_v<S, std::complex<double>> ? 4
-                                                                                    : 64;
+  // stream. complex<double> with AVX2 or AVX-512: from target 1 (at AVX-512, targets 0 and 1
+  // take the lanes above unless a control lies there; at AVX2 target 0 stays in the loop): in a
+  // cache-sized state (2^16, as in a chunked run) 0.23-0.29 ns per amplitude at AVX-512 and 0.37
+  // at AVX2 on targets 2-3 against the loop's 0.72-0.75, under a control on qubit 0 or 1
+  // 0.26-0.41 against 0.54-0.84, from memory level or better (AMD EPYC VM, 2026-12-07). At the
+  // generic level (128-bit vectors, one complex<double> each) from target 4, where the loop takes
+  // its prefetching form. Small states keep the loop: the matrix kernel's setup would dominate.
+  const bool vectors = resolve_simd(ex.simd) != simd_level::generic;
+  const unsigned matrix_kernel_from = std::is_same_v<S, std::complex<float>>    ? 1
+                                      : std::is_same_v<S, std::complex<double>> ? (vectors ? 1 : 4)
+                                                                                : 64;
   if (t >= matrix_kernel_from && n - static_cast<unsigned>(std::popcount(cmask)) >= 12) {
     const dense_matrix m = dense_matrix::of(g);
     const qubit_index target[] = {static_cast<qubit_index>(t)};
