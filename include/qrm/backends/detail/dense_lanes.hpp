@@ -94,8 +94,19 @@ template <class S, class A, unsigned N, unsigned Dim, unsigned LowMask, bool Rea
   // reloaded them on every iteration (see csr_range_body).
   std::uint64_t offset[Columns];
   for (unsigned c = 0; c < Columns; ++c) offset[c] = job.offset[c];
-  const A* const coef_re = job.coef_re;
-  const A* const coef_im = job.coef_im;
+  const A* coef_re = job.coef_re;
+  const A* coef_im = job.coef_im;
+  // Matrices up to 4x4: the coefficient vectors in locals too (at most 16 registers), which the
+  // stores cannot alias, instead of four to sixteen loads per iteration.
+  constexpr bool local_coefficients = Dim <= 4;
+  constexpr std::size_t held = local_coefficients ? std::size_t{Columns} * dim * C * N : 1;
+  alignas(64) A re_local[held], im_local[held];
+  if constexpr (local_coefficients) {
+    std::memcpy(re_local, coef_re, sizeof re_local);
+    if constexpr (!RealMatrix) std::memcpy(im_local, coef_im, sizeof im_local);
+    coef_re = re_local;
+    coef_im = im_local;
+  }
   vec x[dim];
   vec sign;
   for (unsigned l = 0; l < C * N; ++l) sign[l] = (l % 2 == 0) ? -1.0 : 1.0;
