@@ -280,7 +280,7 @@ void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cm
     // Double arithmetic at AVX-512, target 0 or 1: four amplitudes per register, the target a
     // lane (dense_lanes.hpp), where the pair loop below takes one amplitude at a time
     // (complex<float>: each scalar widened on its own; complex<double>: 0.78-0.81 ns per
-    // amplitude in a cache-sized state, the lanes 0.25-0.26, as the matrix kernel from target 4).
+    // amplitude in a cache-sized state, the lanes 0.20-0.26, as the matrix kernel from target 4).
     if (!float_arithmetic<S>(ex) && resolve_simd(ex.simd) == simd_level::avx512 && t < 2 && (cmask & 3) == 0 &&
         n >= 2) {
       const dense_matrix m = dense_matrix::of(g);
@@ -301,10 +301,10 @@ void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cm
   // 0.26-0.41 against 0.54-0.84, from memory level or better (AMD EPYC VM, 2026-12-07). At the
   // generic level (128-bit vectors, one complex<double> each) from target 4, where the loop takes
   // its prefetching form. Small states keep the loop: the matrix kernel's setup would dominate.
-  const bool vectors = resolve_simd(ex.simd) != simd_level::generic;
-  const unsigned matrix_kernel_from = std::is_same_v<S, std::complex<float>>    ? 1
-                                      : std::is_same_v<S, std::complex<double>> ? (vectors ? 1 : 4)
-                                                                                : 64;
+  const unsigned matrix_kernel_from = std::is_same_v<S, std::complex<float>> ? 1
+                                      : std::is_same_v<S, std::complex<double>>
+                                          ? (resolve_simd(ex.simd) != simd_level::generic ? 1 : 4)
+                                          : 64;
   if (t >= matrix_kernel_from && n - static_cast<unsigned>(std::popcount(cmask)) >= 12) {
     const dense_matrix m = dense_matrix::of(g);
     const qubit_index target[] = {static_cast<qubit_index>(t)};
