@@ -63,8 +63,42 @@ void BM_fusion(benchmark::State& st) {
   st.SetLabel(qrm::simd_level_name(qrm::detail::resolve_simd(o.simd)));
 }
 
+// Fused across the program (scope 0) or within the runs the backend applies chunk by chunk
+// (scope 1, qrm::dense_fusion_options), at width `fuse`, chunks of 1 MiB, one thread.
+template <class S, qrm::float_math Math = qrm::float_math::double_precision>
+void BM_fusion_scope(benchmark::State& st) {
+  const qrm::program& p = circuit(static_cast<int>(st.range(0)));
+  qrm::dense_options o;
+  o.threads = 1;
+  o.math = Math;
+  const qrm::fusion_options width{static_cast<unsigned>(st.range(1))};
+  const qrm::program run = qrm::fuse(p, st.range(2) ? qrm::dense_fusion_options<S>(width, o) : width);
+  qrm::state_vector<S> s(p.width(), o);
+  for (auto _ : st) {
+    s.set_basis_state(0);
+    qrm::run(s, run);
+    benchmark::DoNotOptimize(s.amplitudes().data());
+  }
+  st.counters["ops"] = static_cast<double>(run.size());
+  st.counters["within_runs"] = static_cast<double>(st.range(2));
+}
+
 }  // namespace
 
+BENCHMARK(BM_fusion_scope<std::complex<double>>)
+    ->ArgNames({"circuit", "fuse", "scope"})
+    ->ArgsProduct({{0, 3}, {2, 3}, {0, 1}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->Repetitions(5);
+BENCHMARK(BM_fusion_scope<std::complex<float>, qrm::float_math::single_precision>)
+    ->ArgNames({"circuit", "fuse", "scope"})
+    ->ArgsProduct({{0, 3}, {2, 3}, {0, 1}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->Repetitions(5);
 BENCHMARK(BM_fusion<std::complex<double>>)
     ->ArgNames({"circuit", "fuse", "simd", "threads", "chunk"})
     ->ArgsProduct({{0, 1}, {0, 2, 3, 4, 5}, {0}, {1}, {0}})

@@ -139,6 +139,65 @@ TEST_CASE_TEMPLATE("fused programs give the unfused state on every backend and b
   MESSAGE(std::string(T::name()) << ": largest |fused - unfused| " << worst);
 }
 
+// Fusion within the runs the dense backend applies chunk by chunk (fusion_options::chunk_qubits):
+// chunks of 6 of 10 qubits, every run chunked (chunk_min_passes 0), so the fused blocks run on
+// renumbered chunks. Fused and unfused give the same state; each fused block keeps to one run's
+// qubits, so the backend cuts the fused program into no more runs than the gates it came from
+// (fused across the program, a block that turns a CX's control outside the run into a target
+// can add one).
+TEST_CASE_TEMPLATE("fusing within the dense backend's runs gives the unfused state and adds no run", S,
+                   std::complex<double>, std::complex<float>, double) {
+  using T = backend_traits<qrm::state_vector<S>>;
+  qrm::rng g(31);
+  const std::size_t n = 10;
+  qrm::dense_options o;
+  o.threads = 1;
+  o.chunk_bytes = 64 * sizeof(S);
+  o.chunk_min_passes = 0;
+  const unsigned low = qrm::detail::chunk_low_qubits<S>();
+  const std::uint64_t reserved = (std::uint64_t{1} << low) - 1;
+  REQUIRE(qrm::dense_fusion_options<S>({2}, o).chunk_qubits == 6);
+  REQUIRE(qrm::dense_fusion_options<S>({2}, o).chunk_low_qubits == low);
+  qrm::dense_options unchunked = o;
+  unchunked.chunk_bytes = 0;
+  CHECK(qrm::dense_fusion_options<S>({2}, unchunked).chunk_qubits == 0);
+  std::size_t runs_unfused = 0, runs_fused = 0, runs_across = 0;
+  for (unsigned k = 1; k <= 6; ++k)
+    for (int trial = 0; trial < 4; ++trial) {
+      const qrm::program p = random_gate_program(n, 120, g, T::is_complex);
+      qrm::fusion_report rep;
+      const qrm::program f = qrm::fuse(p, qrm::dense_fusion_options<S>({k}, o), &rep);
+      CAPTURE(k);
+      CAPTURE(trial);
+      CHECK(rep.chunk_qubits == 6);
+      const auto plain = qrm::detail::group_runs(p.ops(), 6, reserved);
+      const auto fused = qrm::detail::group_runs(f.ops(), 6, reserved);
+      CHECK(fused.runs.size() <= plain.runs.size());
+      runs_unfused += plain.runs.size();
+      runs_fused += fused.runs.size();
+      runs_across += qrm::detail::group_runs(qrm::fuse(p, {k}).ops(), 6, reserved).runs.size();
+      qrm::state_vector<S> a(n, o), b(n, o);
+      const auto start = random_unit_state(n, g);
+      std::vector<S> rounded(start.size());
+      for (std::size_t i = 0; i < start.size(); ++i) {
+        if constexpr (T::is_complex)
+          rounded[i] = static_cast<S>(start[i]);
+        else
+          rounded[i] = start[i].real();
+      }
+      a.set_amplitudes(rounded);
+      b.set_amplitudes(rounded);
+      qrm::run(a, p);
+      qrm::run(b, f);
+      double d = 0;
+      for (std::size_t i = 0; i < rounded.size(); ++i)
+        d = std::max(d, static_cast<double>(std::abs(a.amplitudes()[i] - b.amplitudes()[i])));
+      CHECK(d <= T::tolerance);
+    }
+  MESSAGE(std::string(qrm::detail::scalar_name<S>()) << ": " << runs_unfused << " runs unfused, " << runs_fused
+                                                     << " fused within them, " << runs_across << " fused across");
+}
+
 // The circuit fusion is for: the walk lowered to 1-qubit gates and CNOTs (paper_4x4, cell (1, 2),
 // 2 steps, reachable pruning: 12 qubits with ancillas, 926 gates), run gate by gate and fused at
 // every width from |0...0>. Bars: 1e-12 in complex<double>, 1e-5 in complex<float> (each of the
@@ -872,4 +931,41 @@ TEST_CASE("fuse_cheapest keeps the width the cost model rates cheapest, and the 
     for (std::size_t i = 0; i < a.amplitudes().size(); ++i) d = std::max(d, std::abs(a.amplitudes()[i] - b.amplitudes()[i]));
     CHECK(d <= 1e-12);
   }
+}
+
+TEST_CASE("fuse_cheapest with chunk qubits keeps the cheaper of fusing within runs and across, and the state") {
+  qrm::rng g(8);
+  qrm::dense_options o;
+  o.chunk_bytes = 64 * sizeof(std::complex<double>);  // chunks of 6 qubits
+  o.chunk_min_passes = 0;
+  const qrm::fusion_options within = qrm::dense_fusion_options<std::complex<double>>({}, o);
+  std::size_t chose_runs = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    const qrm::program p = random_gate_program(10, 150, g, true);
+    qrm::fusion_report chosen;
+    const qrm::program f = qrm::fuse_cheapest(p, within, &chosen);
+    CHECK(chosen.estimated_passes == qrm::estimated_passes(f));
+    for (unsigned k = 2; k <= 6; ++k)
+      for (const unsigned scope : {6u, 0u}) {
+        qrm::fusion_options fo = within;
+        fo.max_qubits = k;
+        fo.chunk_qubits = scope;
+        qrm::fusion_report rep;
+        (void)qrm::fuse(p, fo, &rep);
+        CAPTURE(k);
+        CAPTURE(scope);
+        CHECK(chosen.estimated_passes <= rep.estimated_passes);
+      }
+    chose_runs += chosen.chunk_qubits == 6;
+    qrm::fusion_report forced;
+    (void)qrm::fuse_cheapest(p, within, &forced, false);
+    CHECK(forced.chunk_qubits == 6);
+    qrm::state_vector<std::complex<double>> a(10, o), b(10, o);
+    qrm::run(a, p);
+    qrm::run(b, f);
+    double d = 0;
+    for (std::size_t i = 0; i < a.amplitudes().size(); ++i) d = std::max(d, std::abs(a.amplitudes()[i] - b.amplitudes()[i]));
+    CHECK(d <= 1e-12);
+  }
+  MESSAGE("fused within runs in " << chose_runs << " of 6 programs");
 }

@@ -143,6 +143,16 @@ simulation simulate_scalar(const std::string& scalar, const qrm::program& progra
   return simulate<float>(program, plain, rs);
 }
 
+// Fusion options for the dense backend's chunked runs of the --scalar type (qrm::dense_fusion_options).
+qrm::fusion_options within_chunks(const std::string& scalar, qrm::fusion_options fo, std::uint64_t chunk_bytes) {
+  qrm::dense_options d;
+  d.chunk_bytes = chunk_bytes;
+  if (scalar == "complex-double") return qrm::dense_fusion_options<std::complex<double>>(fo, d);
+  if (scalar == "complex-float") return qrm::dense_fusion_options<std::complex<float>>(fo, d);
+  if (scalar == "double") return qrm::dense_fusion_options<double>(fo, d);
+  return qrm::dense_fusion_options<float>(fo, d);
+}
+
 double fastest(const timed_run& r) { return *std::min_element(r.seconds.begin(), r.seconds.end()); }
 
 }  // namespace
@@ -163,6 +173,11 @@ flag_table simulate_flags() {
       {"fuse", "auto|K|on|off", "auto",
        "multiply runs of gates on at most K qubits (1..6) into one matrix; auto (or on): the K from 2 to 6 whose "
        "fused circuit qrm::estimated_passes rates cheapest",
+       run},
+      {"fuse-scope", "auto|runs|program", "auto",
+       "dense backend with chunks: fuse within the runs it applies chunk by chunk, each block keeping to its run's "
+       "qubits (fusion adds no trip to memory), or across the whole program; auto: the one qrm::estimated_passes rates "
+       "cheaper",
        run},
       {"threads", "T", "0", "threads of the dense backend (0: every core)", run},
       {"simd", "auto|generic|avx2|avx512", "auto",
@@ -220,6 +235,10 @@ int cmd_simulate(args& a) {
       throw usage_error("--fuse must be a width 1..6, auto, on or off, got '" + fuse_arg + "'");
     fuse_width = static_cast<unsigned>(std::stoi(fuse_arg));
   }
+  const std::string fuse_scope = a.str("fuse-scope", "auto");
+  if (fuse_scope != "auto" && fuse_scope != "runs" && fuse_scope != "program")
+    throw usage_error("--fuse-scope must be auto, runs or program, got '" + fuse_scope + "'");
+  if (a.has("fuse-scope") && fuse_width == 0) throw usage_error("--fuse-scope applies to fusion; --fuse is off");
   const auto threads = static_cast<unsigned>(a.integer("threads", 0, 0, 1024));
   const auto repeat = static_cast<unsigned>(a.integer("repeat", 3, 1, 1000));
   const bool compare = a.flag("compare");
@@ -238,6 +257,8 @@ int cmd_simulate(args& a) {
     chunk_kib = std::stoull(chunk_arg);
   }
   if (compact && a.has("chunk")) throw usage_error("--chunk applies to --backend dense");
+  if (a.has("fuse-scope") && (compact || chunk_kib == 0))
+    throw usage_error("--fuse-scope applies to the dense backend with chunks (--chunk KIB)");
   const double chunk_passes = a.number("chunk-passes", qrm::dense_options{}.chunk_min_passes);
   if (chunk_passes < 0 || chunk_passes > 1000)
     throw usage_error("--chunk-passes must be a number of passes from 0 to 1000, got '" + a.str("chunk-passes", "") + "'");
@@ -278,9 +299,27 @@ int cmd_simulate(args& a) {
   qrm::fusion_report rep;
   double fuse_seconds = 0;
   qrm::program fused;
+  unsigned fuse_run_qubits = 0;  // fused within runs of chunks of this many qubits (0: the whole program)
   if (fuse_width) {
     const auto t0 = std::chrono::steady_clock::now();
-    fused = fuse_auto ? qrm::fuse_cheapest(p, &rep) : qrm::fuse(p, {fuse_width}, &rep);
+    qrm::fusion_options fo{fuse_width};
+    if (!compact && fuse_scope != "program") fo = within_chunks(scalar, fo, chunk_kib << 10);
+    const bool compare_scopes = fuse_scope == "auto";
+    if (fuse_auto) {
+      fused = qrm::fuse_cheapest(p, fo, &rep, compare_scopes);
+    } else {
+      fused = qrm::fuse(p, fo, &rep);
+      if (compare_scopes && fo.chunk_qubits) {  // the cheaper of within runs and across, as fuse_cheapest
+        qrm::fusion_report across_rep;
+        fo.chunk_qubits = 0;
+        qrm::program across = qrm::fuse(p, fo, &across_rep);
+        if (across_rep.estimated_passes < rep.estimated_passes) {
+          fused = std::move(across);
+          rep = std::move(across_rep);
+        }
+      }
+    }
+    fuse_run_qubits = rep.chunk_qubits;
     fuse_width = rep.max_qubits;
     fuse_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
@@ -301,9 +340,11 @@ int cmd_simulate(args& a) {
   if (format == "text") {
     std::printf("circuit   %s: %zu qubits, %zu ops\n", source.c_str(), p.width(), p.size());
     if (fuse_width)
-      std::printf("fused     %zu ops (%zu blocks of up to %u qubits%s; estimated %.4g passes) in %.3g s\n", rep.ops_out,
-                  rep.fused_blocks, fuse_width, fuse_auto ? ", the width chosen by cost" : "", rep.estimated_passes,
-                  fuse_seconds);
+      std::printf("fused     %zu ops (%zu blocks of up to %u qubits%s, %s; estimated %.4g passes) in %.3g s\n",
+                  rep.ops_out, rep.fused_blocks, fuse_width, fuse_auto ? ", the width chosen by cost" : "",
+                  fuse_run_qubits ? ("within runs of " + std::to_string(fuse_run_qubits) + " qubits").c_str()
+                                  : "across the program",
+                  rep.estimated_passes, fuse_seconds);
     if (compact)
       std::printf("run       %s, compact backend: %.6g s (fastest of %u)\n", scalar.c_str(), fastest(main_run), repeat);
     else
@@ -331,6 +372,8 @@ int cmd_simulate(args& a) {
   j.add("repeat", repeat);
   if (fuse_width) {
     j.add("fuse", fuse_width).add("fuse_width_chosen", fuse_auto).add("estimated_passes", rep.estimated_passes);
+    j.add("fuse_scope", fuse_run_qubits ? "runs" : "program");
+    if (fuse_run_qubits) j.add("fuse_run_qubits", fuse_run_qubits);
     j.add("fused_ops", rep.ops_out).add("fused_blocks", rep.fused_blocks);
     j.add("blocks_by_width", json_array::of(rep.blocks_by_width)).add("fuse_seconds", fuse_seconds);
   } else {

@@ -169,6 +169,22 @@ def main():
             worst = max(abs(a - b) for a, b in zip(chunked["off"], chunked["1"]))
             if worst > tolerance:
                 failures.append("--chunk 1 against off, %s --fuse %s: states differ by %.3g" % (scalar, fuse, worst))
+    # --fuse-scope: fused within the chunked runs (chunks of 1 KiB: 6 of 12 qubits) or across the
+    # program, the same state, and the JSON says which.
+    scoped = {}
+    for scope in ("runs", "program"):
+        out = os.path.join(work, "scope_%s.bin" % scope)
+        r = run(qrm, ["--random", "12", "--gates", "200", "--seed", "9", "--fuse", "2", "--fuse-scope", scope, "--chunk",
+                      "1", "--chunk-passes", "0", "--threads", "1", "--repeat", "1", "--state-out", out])
+        reported = json.loads(r.stdout)
+        if reported.get("fuse_scope") != scope or reported.get("fuse_run_qubits") != (6 if scope == "runs" else None):
+            failures.append("--fuse-scope %s: the JSON says fuse_scope %r, fuse_run_qubits %r" %
+                            (scope, reported.get("fuse_scope"), reported.get("fuse_run_qubits")))
+        scoped[scope] = read_state(out, "complex-double")
+    worst = max(abs(a - b) for a, b in zip(scoped["runs"], scoped["program"]))
+    if worst > 1e-12:
+        failures.append("--fuse-scope runs against program: states differ by %.3g" % worst)
+
     # --arithmetic float (complex<float>): computed differently from double arithmetic (the
     # flag reaches the kernels), within float rounding of it (1e-5, as above).
     floats = {}
@@ -195,6 +211,12 @@ def main():
         (["--random", "10", "--arithmetic", "half"], "--arithmetic must be double or float, got 'half'"),
         (["--random", "10", "--arithmetic", "float"], "--arithmetic float applies to --scalar complex-float on --backend dense"),
         (["--random", "10", "--fuse", "9"], "--fuse must be a width 1..6, auto, on or off, got '9'"),
+        (["--random", "10", "--fuse-scope", "all"], "--fuse-scope must be auto, runs or program, got 'all'"),
+        (["--random", "10", "--fuse", "off", "--fuse-scope", "runs"], "--fuse-scope applies to fusion; --fuse is off"),
+        (["--random", "10", "--chunk", "off", "--fuse-scope", "runs"],
+         "--fuse-scope applies to the dense backend with chunks (--chunk KIB)"),
+        (["--random", "10", "--backend", "compact", "--fuse-scope", "program"],
+         "--fuse-scope applies to the dense backend with chunks (--chunk KIB)"),
         (["--random", "10", "--chunk", "0"], "--chunk must be a size in KiB from 1 to 1048576, or off, got '0'"),
         (["--random", "10", "--chunk", "1M"], "--chunk must be a size in KiB from 1 to 1048576, or off, got '1M'"),
         (["--random", "10", "--backend", "compact", "--chunk", "64"], "--chunk applies to --backend dense"),

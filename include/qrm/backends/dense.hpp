@@ -30,6 +30,7 @@
 #include "detail/bits.hpp"
 #include "detail/dense_api.hpp"
 #include "detail/scalar.hpp"
+#include "../circuit/fuse.hpp"
 #include "../circuit/ops.hpp"
 #include "../circuit/program.hpp"
 
@@ -59,6 +60,18 @@ struct dense_options {
   // detail::memory_passes; fewer cost less than the chunk's copy).
   double chunk_min_passes = detail::min_chunked_passes;
 };
+
+// dense_fusion_options<S>(options, dense): `options` set to fuse within the runs a
+// state_vector<S> built with `dense` applies chunk by chunk (fusion_options::chunk_qubits, see
+// circuit/fuse.hpp), so fusion adds no trips to memory; unchanged when it uses no chunks.
+template <class S>
+fusion_options dense_fusion_options(fusion_options options = {}, const dense_options& dense = {}) {
+  const unsigned m = detail::chunk_qubits<S>(dense.chunk_bytes);
+  if (m < 4) return options;
+  options.chunk_qubits = m;
+  options.chunk_low_qubits = detail::chunk_low_qubits<S>();
+  return options;
+}
 
 namespace detail {
 template <int = 0>

@@ -12,6 +12,7 @@
 #include <variant>
 #include <vector>
 
+#include "../../circuit/detail/runs.hpp"
 #include "../../circuit/ops.hpp"
 #include "../../circuit/program.hpp"
 #include "bits.hpp"
@@ -64,18 +65,12 @@ constexpr unsigned chunk_low_qubits() {
   return static_cast<unsigned>(std::countr_zero(128 / sizeof(S)));
 }
 
-// Ops order[first, last) run chunk by chunk over the qubits `local` (a mask of m qubits), or on the
-// whole state when local == 0.
-struct op_run {
-  std::size_t first = 0, last = 0;
-  std::uint64_t local = 0;
-};
-
-// The runs of a program, and the order its ops are applied in (indices into the program).
-struct run_plan {
-  std::vector<std::size_t> order;
-  std::vector<op_run> runs;
-};
+// Qubits of a chunk of `chunk_bytes` bytes of S amplitudes (0: no chunks; run_ops chunks from 4).
+template <class S>
+constexpr unsigned chunk_qubits(std::uint64_t chunk_bytes) {
+  const std::uint64_t amplitudes = chunk_bytes / sizeof(S);
+  return amplitudes ? static_cast<unsigned>(std::bit_width(amplitudes)) - 1 : 0;
+}
 
 // A run is chunked when its ops would make at least this many passes over memory on their own.
 // Copying every chunk of a 2^24-amplitude complex<float> state in and out costs 2.1-3.3 in-place

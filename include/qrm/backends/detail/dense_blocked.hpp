@@ -12,8 +12,8 @@
 //
 // Runs are formed greedily: an op joins the current run while the union of the run's moving
 // qubits stays within m, and an op further on may join it ahead of ops it commutes with (see
-// plan_runs). A run whose ops would make fewer than min_chunked_passes passes over memory (see
-// memory_passes) is applied op by op to the whole state as usual.
+// group_runs in circuit/detail/runs.hpp). A run whose ops would make fewer than
+// min_chunked_passes passes over memory (see memory_passes) is applied op by op as usual.
 #pragma once
 
 #include <algorithm>
@@ -25,48 +25,13 @@
 #include <span>
 #include <vector>
 
+#include "../../circuit/detail/runs.hpp"
 #include "../../circuit/program.hpp"
 #include "../../support/detail/thread_pool.hpp"
 #include "bits.hpp"
 #include "dense_kernels.hpp"
 
 namespace qrm::detail {
-
-// Moving qubits of an op as a mask (targets, added bits, select qubits: the qubits a chunk must hold).
-template <int = 0>
-std::uint64_t moving_mask(const op::any& o) {
-  std::uint64_t m = 0;
-  auto add = [&m](std::span<const qubit_index> qs) {
-    for (qubit_index q : qs) m |= q < 64 ? std::uint64_t{1} << q : 0;
-  };
-  visit_op(o, [&](const auto& x) {
-    using T = std::decay_t<decltype(x)>;
-    if constexpr (std::is_same_v<T, op::gate1_op>) {
-      add(std::span<const qubit_index>(&x.target, 1));
-    } else if constexpr (std::is_same_v<T, op::add_op>) {
-      add(x.bits);
-    } else if constexpr (std::is_same_v<T, op::mux1_op>) {
-      add(std::span<const qubit_index>(&x.target, 1));
-      add(x.select);
-    } else if constexpr (std::is_same_v<T, op::mux_unitary_op>) {
-      add(x.targets);
-      add(x.select);
-    } else {
-      add(x.targets);
-    }
-  });
-  return m;
-}
-
-// Control qubits of an op as a mask.
-template <int = 0>
-std::uint64_t control_mask(const op::any& o) {
-  std::uint64_t m = 0;
-  visit_op(o, [&m](const auto& x) {
-    for (const control& c : x.controls) m |= c.qubit < 64 ? std::uint64_t{1} << c.qubit : 0;
-  });
-  return m;
-}
 
 // Whether an op's kernel waits on memory, for matrices up to `widest_memory_bound` rows (see
 // memory_bound_dim): every op but a matrix on more qubits, whose multiply-adds per amplitude
@@ -109,69 +74,29 @@ double memory_passes(const op::any& o, unsigned low, std::size_t widest_memory_b
   return passes;
 }
 
-// How many ops a run looks past (ops it cannot take) for further ops that commute with them.
-inline constexpr std::size_t run_lookahead = 256;
-
-// The runs of `ops` for chunks of m qubits in an n-qubit state (see the top of this header). Every
-// chunk holds the lowest `low` qubits, so a copied chunk moves runs of 2^low contiguous amplitudes
-// (one amplitude at a time would cost more than the ops it saves). A run is chunked when its
-// ops' memory_passes (matrices up to widest_memory_bound rows waiting on memory) add up to min_passes.
-//
-// A run takes the first op left and then every later op that fits its m qubits and commutes with
-// each op passed over so far: two ops commute when neither moves a qubit the other touches (a
-// qubit that is only a control of both is diagonal in both). So the ops are applied in another
-// order, which gives the same state to rounding. On the 24-qubit random suite (300 gates, chunks
-// of 2^17 amplitudes) in program order: 12 runs unfused and 13 fused; with the look-ahead 9 and 11.
+// The runs of `ops` for chunks of m qubits in an n-qubit state (see the top of this header and
+// group_runs). Every chunk holds the lowest `low` qubits, so a copied chunk moves runs of 2^low
+// contiguous amplitudes (one amplitude at a time would cost more than the ops it saves). A run is
+// chunked when its ops' memory_passes (matrices up to widest_memory_bound rows waiting on memory)
+// add up to min_passes; its ops are otherwise applied one by one.
 template <int>
 run_plan plan_runs(std::span<const op::any> ops, unsigned n, unsigned m, unsigned low, double min_passes,
                    std::size_t widest_memory_bound) {
-  run_plan plan;
-  plan.order.reserve(ops.size());
-  std::vector<std::uint64_t> moving(ops.size()), touched(ops.size());
-  for (std::size_t i = 0; i < ops.size(); ++i) {
-    moving[i] = moving_mask(ops[i]);
-    touched[i] = moving[i] | control_mask(ops[i]);
-  }
-  const std::uint64_t reserved = (std::uint64_t{1} << std::min(low, m)) - 1;
-  const auto fits = [&](std::uint64_t qubits) { return std::popcount(qubits) <= static_cast<int>(m); };
-  std::vector<std::size_t> left(ops.size()), passed;  // left[head, end): ops not yet in a run, in program order
-  for (std::size_t i = 0; i < ops.size(); ++i) left[i] = i;
-  std::size_t head = 0;
-  while (head < left.size()) {
-    const std::size_t first = plan.order.size();
-    if (!fits(moving[left[head]] | reserved)) {  // too wide for any chunk: alone
-      plan.runs.push_back({first, first + 1, 0});
-      plan.order.push_back(left[head++]);
+  run_plan plan = group_runs(ops, m, (std::uint64_t{1} << std::min(low, m)) - 1);
+  std::vector<op_run> runs;
+  runs.reserve(plan.runs.size());
+  for (op_run r : plan.runs) {
+    double passes = 0;
+    for (std::size_t j = r.first; j < r.last; ++j) passes += memory_passes(ops[plan.order[j]], low, widest_memory_bound);
+    if (r.local == 0 || passes < min_passes) {
+      for (std::size_t j = r.first; j < r.last; ++j) runs.push_back({j, j + 1, 0});
       continue;
     }
-    std::uint64_t cur = reserved, passed_moving = 0, passed_touched = 0;
-    passed.clear();
-    std::size_t k = head;
-    for (; k < left.size() && passed.size() < run_lookahead; ++k) {
-      const std::size_t i = left[k];
-      if (fits(cur | moving[i]) && (moving[i] & passed_touched) == 0 && (touched[i] & passed_moving) == 0) {
-        cur |= moving[i];
-        plan.order.push_back(i);
-      } else {
-        passed_moving |= moving[i];
-        passed_touched |= touched[i];
-        passed.push_back(i);
-      }
-    }
-    // The passed ops, in program order, go back just before the ops not scanned.
-    head = k - passed.size();
-    std::copy(passed.begin(), passed.end(), left.begin() + static_cast<std::ptrdiff_t>(head));
-    const std::size_t last = plan.order.size();
-    double passes = 0;
-    for (std::size_t j = first; j < last; ++j) passes += memory_passes(ops[plan.order[j]], low, widest_memory_bound);
-    if (passes < min_passes) {
-      for (std::size_t j = first; j < last; ++j) plan.runs.push_back({j, j + 1, 0});
-    } else {
-      // Pad with the lowest free qubits: longer contiguous runs to copy, and in place when L = {0..m-1}.
-      for (unsigned q = 0; q < n && std::popcount(cur) < static_cast<int>(m); ++q) cur |= std::uint64_t{1} << q;
-      plan.runs.push_back({first, last, cur});
-    }
+    // Pad with the lowest free qubits: longer contiguous runs to copy, and in place when L = {0..m-1}.
+    for (unsigned q = 0; q < n && std::popcount(r.local) < static_cast<int>(m); ++q) r.local |= std::uint64_t{1} << q;
+    runs.push_back(r);
   }
+  plan.runs = std::move(runs);
   return plan;
 }
 

@@ -94,8 +94,7 @@ void state_vector<Scalar>::apply_mux_unitary(std::span<const dense_matrix> matri
 
 template <class Scalar>
 void state_vector<Scalar>::run_ops(std::span<const op::any> ops) {
-  const std::uint64_t amplitudes = chunk_bytes_ / sizeof(Scalar);
-  const unsigned m = amplitudes ? static_cast<unsigned>(std::bit_width(amplitudes)) - 1 : 0;  // qubits of a chunk
+  const unsigned m = detail::chunk_qubits<Scalar>(chunk_bytes_);
   if (m < 4 || m >= n_) {
     for (const op::any& o : ops) emit_op(o, *this);
     return;
