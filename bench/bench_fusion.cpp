@@ -9,7 +9,9 @@
 // 3 AVX-512), threads, chunk (KiB of the chunks qrm::run applies runs of ops in, see
 // dense_options::chunk_bytes; 0: op by op, as every run before chunks existed). complex<float> runs twice: in double
 // arithmetic (the default) and in float arithmetic (qrm::float_math::single_precision, the
-// precision Google qsim computes in); double runs the random suites.
+// precision Google qsim computes in); double runs the random suites. BM_fusion_scope fuses the
+// walk and the 24-qubit suite across the program or within the runs the backend applies chunk by
+// chunk (qrm::dense_fusion_options): run with --benchmark_enable_random_interleaving=true.
 #include <benchmark/benchmark.h>
 
 #include <complex>
@@ -40,6 +42,16 @@ const qrm::program& circuit(int which) {
   return which == 0 ? walk : which == 1 ? suite : which == 2 ? wide_walk : suite24;
 }
 
+// Each iteration: |0...0>, then `run` (the timed part includes the reset, a pass over the state).
+template <class S>
+void run_from_zero(benchmark::State& st, qrm::state_vector<S>& s, const qrm::program& run) {
+  for (auto _ : st) {
+    s.set_basis_state(0);
+    qrm::run(s, run);
+    benchmark::DoNotOptimize(s.amplitudes().data());
+  }
+}
+
 template <class S, qrm::float_math Math = qrm::float_math::double_precision>
 void BM_fusion(benchmark::State& st) {
   const qrm::program& p = circuit(static_cast<int>(st.range(0)));
@@ -51,11 +63,7 @@ void BM_fusion(benchmark::State& st) {
   o.math = Math;
   o.chunk_bytes = static_cast<std::uint64_t>(st.range(4)) << 10;
   qrm::state_vector<S> s(p.width(), o);
-  for (auto _ : st) {
-    s.set_basis_state(0);
-    qrm::run(s, run);
-    benchmark::DoNotOptimize(s.amplitudes().data());
-  }
+  run_from_zero(st, s, run);
   st.counters["qubits"] = static_cast<double>(p.width());
   st.counters["ops"] = static_cast<double>(run.size());
   st.counters["threads"] = static_cast<double>(o.threads);
@@ -74,11 +82,7 @@ void BM_fusion_scope(benchmark::State& st) {
   const qrm::fusion_options width{static_cast<unsigned>(st.range(1))};
   const qrm::program run = qrm::fuse(p, st.range(2) ? qrm::dense_fusion_options<S>(width, o) : width);
   qrm::state_vector<S> s(p.width(), o);
-  for (auto _ : st) {
-    s.set_basis_state(0);
-    qrm::run(s, run);
-    benchmark::DoNotOptimize(s.amplitudes().data());
-  }
+  run_from_zero(st, s, run);
   st.counters["ops"] = static_cast<double>(run.size());
   st.counters["within_runs"] = static_cast<double>(st.range(2));
 }
