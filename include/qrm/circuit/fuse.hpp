@@ -24,8 +24,8 @@
 //
 // A dense backend with chunks (dense_options::chunk_bytes) applies a program in runs, each one
 // trip to memory (detail::group_runs). A block that mixes gates of two runs, or turns a control
-// outside its run's qubits into a target, can cost a run more: the random suite fused in
-// program order made 11 runs where its gates made 10. With fusion_options::chunk_qubits set
+// outside its run's qubits into a target, can cost a run more: the random suite fused across
+// the program made 11 runs where its gates made 10. With fusion_options::chunk_qubits set
 // (dense_fusion_options fills it), fuse() first cuts the program into those runs and fuses
 // within each, a block keeping to its run's qubits, so fusing never adds a run (9 there).
 //
