@@ -457,11 +457,13 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
 // fuse_cheapest(p, options, report, compare_scopes): fuse() at the width from 2 to 6
 // (merge_disjoint on, the other options as given) whose program estimated_passes rates cheapest,
 // the narrowest on a tie. Width 1 only merges gates on one qubit, which width 2 does too. With
-// options.chunk_qubits set and compare_scopes, each width is also fused across the program and
-// the cheaper kept, within runs on a tie: the random suite (24 qubits) fused within runs is rated
-// 120.4 passes against 122.9 across and runs 5-10% faster; the decomposed walk (21 qubits), whose
-// 6-qubit blocks are not chunked, 205.4 against 184.9, and ran 25% slower within runs
-// (complex<float>, one thread, AMD EPYC VM, 2026-12-07, bench/RESULTS.md).
+// options.chunk_qubits set and compare_scopes, widths 2 and 3 are fused both within runs and
+// across the program, the cheaper kept (within runs on a tie), and widths 4-6 across only: their
+// 16- to 64-row blocks wait on arithmetic in every scalar type (detail::memory_bound_dim), so the
+// backend applies them op by op and a run boundary only cuts them. Measured (one thread, AMD EPYC
+// VM, 2026-12-07, bench/RESULTS.md): the random suite (24 qubits) fused within runs is rated 120.4
+// passes against 122.9 across and ran 3-9% faster; the decomposed walk (21 qubits, 6-qubit
+// blocks) is rated 205.4 against 184.9 and ran 11-25% slower within runs.
 template <int = 0>
 program fuse_cheapest(const program& p, fusion_options options, fusion_report* report = nullptr,
                       bool compare_scopes = true) {
@@ -472,6 +474,7 @@ program fuse_cheapest(const program& p, fusion_options options, fusion_report* r
   const unsigned chunk_qubits = options.chunk_qubits;
   for (unsigned k = 2; k <= 6; ++k) {
     for (const unsigned scope : {chunk_qubits, 0u}) {
+      if (scope != 0 && k > 3 && compare_scopes) continue;
       if (scope == 0 && chunk_qubits != 0 && !compare_scopes) continue;
       fusion_report rep;
       options.max_qubits = k;
