@@ -87,22 +87,20 @@ void BM_fusion_scope(benchmark::State& st) {
   st.counters["within_runs"] = static_cast<double>(st.range(2));
 }
 
+// BM_fusion_scope's cases: the walk and the 24-qubit suite, widths 2 and 3, both scopes.
+void scope_args(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"circuit", "fuse", "scope"})
+      ->ArgsProduct({{0, 3}, {2, 3}, {0, 1}})
+      ->UseRealTime()
+      ->Unit(benchmark::kMillisecond)
+      ->Iterations(1)
+      ->Repetitions(5);
+}
+
 }  // namespace
 
-BENCHMARK(BM_fusion_scope<std::complex<double>>)
-    ->ArgNames({"circuit", "fuse", "scope"})
-    ->ArgsProduct({{0, 3}, {2, 3}, {0, 1}})
-    ->UseRealTime()
-    ->Unit(benchmark::kMillisecond)
-    ->Iterations(1)
-    ->Repetitions(5);
-BENCHMARK(BM_fusion_scope<std::complex<float>, qrm::float_math::single_precision>)
-    ->ArgNames({"circuit", "fuse", "scope"})
-    ->ArgsProduct({{0, 3}, {2, 3}, {0, 1}})
-    ->UseRealTime()
-    ->Unit(benchmark::kMillisecond)
-    ->Iterations(1)
-    ->Repetitions(5);
+BENCHMARK(BM_fusion_scope<std::complex<double>>)->Apply(scope_args);
+BENCHMARK(BM_fusion_scope<std::complex<float>, qrm::float_math::single_precision>)->Apply(scope_args);
 BENCHMARK(BM_fusion<std::complex<double>>)
     ->ArgNames({"circuit", "fuse", "simd", "threads", "chunk"})
     ->ArgsProduct({{0, 1}, {0, 2, 3, 4, 5}, {0}, {1}, {0}})

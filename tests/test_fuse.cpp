@@ -959,6 +959,19 @@ TEST_CASE("fuse_cheapest with chunk qubits keeps the cheaper of fusing within ru
         CHECK(chosen.estimated_passes <= rep.estimated_passes);
       }
     chose_runs += chosen.chunk_qubits == 6;
+    for (unsigned k = 2; k <= 4; ++k) {  // one width: the cheaper scope at 2-3, across at 4
+      qrm::fusion_options fo = within;
+      fo.max_qubits = k;
+      qrm::fusion_report one, runs, across;
+      (void)qrm::fuse_cheaper_scope(p, fo, &one);
+      (void)qrm::fuse(p, fo, &runs);
+      fo.chunk_qubits = 0;
+      (void)qrm::fuse(p, fo, &across);
+      CAPTURE(k);
+      CHECK(one.estimated_passes == (k <= 3 ? std::min(runs.estimated_passes, across.estimated_passes)
+                                            : across.estimated_passes));
+      if (k == 4) CHECK(one.chunk_qubits == 0);
+    }
     qrm::fusion_report forced;
     (void)qrm::fuse_cheapest(p, within, &forced, false);
     CHECK(forced.chunk_qubits == 6);

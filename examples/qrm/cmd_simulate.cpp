@@ -177,7 +177,7 @@ flag_table simulate_flags() {
       {"fuse-scope", "auto|runs|program", "auto",
        "dense backend with chunks: fuse within the runs it applies chunk by chunk, each block keeping to its run's "
        "qubits (fusion adds no trip to memory), or across the whole program; auto: the one qrm::estimated_passes rates "
-       "cheaper",
+       "cheaper (qrm::fuse_cheaper_scope)",
        run},
       {"threads", "T", "0", "threads of the dense backend (0: every core)", run},
       {"simd", "auto|generic|avx2|avx512", "auto",
@@ -305,20 +305,10 @@ int cmd_simulate(args& a) {
     qrm::fusion_options fo{fuse_width};
     if (!compact && fuse_scope != "program") fo = within_chunks(scalar, fo, chunk_kib << 10);
     const bool compare_scopes = fuse_scope == "auto";
-    if (fuse_auto) {
+    if (fuse_auto)
       fused = qrm::fuse_cheapest(p, fo, &rep, compare_scopes);
-    } else {
-      fused = qrm::fuse(p, fo, &rep);
-      if (compare_scopes && fo.chunk_qubits) {  // the cheaper of within runs and across, as fuse_cheapest
-        qrm::fusion_report across_rep;
-        fo.chunk_qubits = 0;
-        qrm::program across = qrm::fuse(p, fo, &across_rep);
-        if (across_rep.estimated_passes < rep.estimated_passes) {
-          fused = std::move(across);
-          rep = std::move(across_rep);
-        }
-      }
-    }
+    else
+      fused = compare_scopes ? qrm::fuse_cheaper_scope(p, fo, &rep) : qrm::fuse(p, fo, &rep);
     fuse_run_qubits = rep.chunk_qubits;
     fuse_width = rep.max_qubits;
     fuse_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -454,38 +454,50 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
   return out;
 }
 
+// fuse_cheaper_scope(p, options, report): with options.chunk_qubits set and a width of 2 or 3,
+// fuse() both within runs and across the program and keep the one estimated_passes rates cheaper
+// (within runs on a tie); at widths 4-6, across only: their 16- to 64-row blocks wait on
+// arithmetic in every scalar type (detail::memory_bound_dim), so the backend applies them op by
+// op and a run boundary only cuts them. Measured (one thread, AMD EPYC VM, 2026-12-07,
+// bench/RESULTS.md): the random suite (24 qubits) fused within runs is rated 120.4 passes against
+// 122.9 across and ran 3-9% faster; the decomposed walk (21 qubits, 6-qubit blocks) is rated 205.4
+// against 184.9 and ran 11-25% slower within runs.
+template <int = 0>
+program fuse_cheaper_scope(const program& p, fusion_options options, fusion_report* report = nullptr) {
+  if (options.max_qubits > 3) options.chunk_qubits = 0;
+  fusion_report rep;
+  program best = fuse(p, options, &rep);
+  if (options.chunk_qubits != 0) {
+    fusion_report across_rep;
+    options.chunk_qubits = 0;
+    program across = fuse(p, options, &across_rep);
+    if (across_rep.estimated_passes < rep.estimated_passes) {
+      best = std::move(across);
+      rep = std::move(across_rep);
+    }
+  }
+  if (report) *report = std::move(rep);
+  return best;
+}
+
 // fuse_cheapest(p, options, report, compare_scopes): fuse() at the width from 2 to 6
 // (merge_disjoint on, the other options as given) whose program estimated_passes rates cheapest,
 // the narrowest on a tie. Width 1 only merges gates on one qubit, which width 2 does too. With
-// options.chunk_qubits set and compare_scopes, widths 2 and 3 are fused both within runs and
-// across the program, the cheaper kept (within runs on a tie), and widths 4-6 across only: their
-// 16- to 64-row blocks wait on arithmetic in every scalar type (detail::memory_bound_dim), so the
-// backend applies them op by op and a run boundary only cuts them. Measured (one thread, AMD EPYC
-// VM, 2026-12-07, bench/RESULTS.md): the random suite (24 qubits) fused within runs is rated 120.4
-// passes against 122.9 across and ran 3-9% faster; the decomposed walk (21 qubits, 6-qubit
-// blocks) is rated 205.4 against 184.9 and ran 11-25% slower within runs.
+// options.chunk_qubits set, each width is fused as fuse_cheaper_scope chooses, or within runs
+// only when compare_scopes is false.
 template <int = 0>
 program fuse_cheapest(const program& p, fusion_options options, fusion_report* report = nullptr,
                       bool compare_scopes = true) {
   program best;
   fusion_report best_report;
-  bool first = true;
   options.merge_disjoint = true;
-  const unsigned chunk_qubits = options.chunk_qubits;
   for (unsigned k = 2; k <= 6; ++k) {
-    for (const unsigned scope : {chunk_qubits, 0u}) {
-      if (scope != 0 && k > 3 && compare_scopes) continue;
-      if (scope == 0 && chunk_qubits != 0 && !compare_scopes) continue;
-      fusion_report rep;
-      options.max_qubits = k;
-      options.chunk_qubits = scope;
-      program f = fuse(p, options, &rep);
-      if (first || rep.estimated_passes < best_report.estimated_passes) {
-        best = std::move(f);
-        best_report = std::move(rep);
-        first = false;
-      }
-      if (chunk_qubits == 0) break;
+    fusion_report rep;
+    options.max_qubits = k;
+    program f = compare_scopes ? fuse_cheaper_scope(p, options, &rep) : fuse(p, options, &rep);
+    if (k == 2 || rep.estimated_passes < best_report.estimated_passes) {
+      best = std::move(f);
+      best_report = std::move(rep);
     }
   }
   if (report) *report = std::move(best_report);
