@@ -12,6 +12,11 @@
 // precision Google qsim computes in); double runs the random suites. BM_fusion_scope fuses the
 // walk and the 24-qubit suite across the program or within the runs the backend applies chunk by
 // chunk (qrm::dense_fusion_options): run with --benchmark_enable_random_interleaving=true.
+// BM_noisy_trajectories: the noisy oracle at gate level (qrm/noise) on the paper's 4x4 scene,
+// cell (1, 1), one step (18 qubits decomposed: A 917 gates, Q 2051), 4 trajectories through
+// Q^4 A on one thread, gate by gate (fuse 0) or fused (fuse 1, qrm::fused_noisy_circuit). Model:
+// 0 depolarizing p2 = 1e-4, 1 depolarizing p2 = 1e-2 (errors in most blocks), 2 the
+// superconducting preset (T1/T2: damping after every gate, so nothing fuses).
 #include <benchmark/benchmark.h>
 
 #include <complex>
@@ -87,6 +92,27 @@ void BM_fusion_scope(benchmark::State& st) {
   st.counters["within_runs"] = static_cast<double>(st.range(2));
 }
 
+void BM_noisy_trajectories(benchmark::State& st) {
+  const qrm::walk_model m(qrm::paper_4x4(), qrm::king_2d());
+  qrm::walk_options wo;
+  wo.steps = 1;
+  const qrm::walk_program w = qrm::make_walk_program(m, m.light_map_start({1, 1, 0}), wo);
+  const qrm::estimation_problem problem{w.circuit, {qrm::control{w.out, true}}};
+  const qrm::noise_model model = st.range(1) == 0   ? qrm::depolarizing_noise(1e-5, 1e-4)
+                                 : st.range(1) == 1 ? qrm::depolarizing_noise(1e-3, 1e-2)
+                                                    : qrm::noise_preset("superconducting");
+  qrm::noisy_oracle_options o;
+  o.level = qrm::noise_level::gates;
+  o.trajectories = 4;
+  o.threads = 1;
+  o.fuse = st.range(0) != 0;
+  for (auto _ : st) {
+    qrm::noisy_oracle oracle(problem, model, o);  // fusing A and Q is part of the cost
+    oracle.prepare(4);
+    benchmark::DoNotOptimize(oracle.probability(4));
+  }
+}
+
 // BM_fusion_scope's cases: the walk and the 24-qubit suite, widths 2 and 3, both scopes.
 void scope_args(benchmark::internal::Benchmark* b) {
   b->ArgNames({"circuit", "fuse", "scope"})
@@ -99,6 +125,13 @@ void scope_args(benchmark::internal::Benchmark* b) {
 
 }  // namespace
 
+BENCHMARK(BM_noisy_trajectories)
+    ->ArgNames({"fuse", "model"})
+    ->ArgsProduct({{0, 1}, {0, 1, 2}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->Repetitions(3);
 BENCHMARK(BM_fusion_scope<std::complex<double>>)->Apply(scope_args);
 BENCHMARK(BM_fusion_scope<std::complex<float>, qrm::float_math::single_precision>)->Apply(scope_args);
 BENCHMARK(BM_fusion<std::complex<double>>)

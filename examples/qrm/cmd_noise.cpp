@@ -90,6 +90,9 @@ flag_table noise_flags() {
        "(every gate, with the ancillas; slow above ~14 qubits)", n},
       {"kmax", "K", "16", "Grover powers 0..K in the oscillation (0..1024)", n},
       {"trajectories", "N", "100", "quantum trajectories per noise rate (1..1000000)", n},
+      {"fuse", "on|off", "on",
+       "run the trajectories on fused gates, the errors that fire folded into their blocks (qrm::fused_noisy_circuit; "
+       "the same errors and states to rounding); off: gate by gate", n},
       {"seeds", "N", "50", "seeded runs of each estimator per rate (2..100000)", e},
       {"shots", "N", "100", "MLAE shots per power", e},
       {"mlae-m", "M", "4", "MLAE powers 0, 1, 2, .., 2^(M-1) (1..10)", e},
@@ -119,6 +122,9 @@ int cmd_noise(args& a) {
   qrm::noisy_oracle_options no;
   no.level = level_name == "gates" ? qrm::noise_level::gates : qrm::noise_level::logical;
   no.trajectories = static_cast<std::size_t>(a.integer("trajectories", 100, 1, 1000000));
+  const std::string fuse_arg = a.str("fuse", "on");
+  if (fuse_arg != "on" && fuse_arg != "off") throw usage_error("--fuse must be on or off, got '" + fuse_arg + "'");
+  no.fuse = fuse_arg == "on";
   const auto seeds = static_cast<std::size_t>(a.integer("seeds", 50, 2, 100000));
   const auto shots = static_cast<std::uint64_t>(a.integer("shots", 100, 1, 1000000000));
   const auto mlae_m = static_cast<unsigned>(a.integer("mlae-m", 4, 1, 10));
@@ -159,7 +165,8 @@ int cmd_noise(args& a) {
   std::string json = "{\"scene\":" + json_string(sc.name()) + ",\"x\":" + std::to_string(cell[0]) +
                      ",\"y\":" + std::to_string(cell[1]) + ",\"steps\":" + std::to_string(wo.steps) +
                      ",\"level\":" + json_string(level_name) + ",\"exact\":" + json_number(exact) +
-                     ",\"trajectories\":" + std::to_string(no.trajectories) + ",\"models\":[";
+                     ",\"trajectories\":" + std::to_string(no.trajectories) + ",\"fuse\":" + (no.fuse ? "true" : "false") +
+                     ",\"models\":[";
   // Convergence: plain MLAE at m = 1, 2, .. (powers up to 2^(m-1) <= kmax), RMSE against the
   // ideal amplitude over the same seeds, ideal oracle and each noisy one.
   std::vector<unsigned> conv_m;

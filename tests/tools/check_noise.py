@@ -10,6 +10,8 @@ On a paper_4x4 cell (1 step, a = 1/4, logical level, 100 trajectories):
   3 standard errors, and lower at the higher rate;
 - noise_estimators.csv has every estimator at every rate; the SVG passes check_svg.py;
 - the same seed gives byte-identical CSVs with 1 and 2 threads;
+- `--fuse off` (trajectories gate by gate) draws the same errors: the same oscillation to 1e-9,
+  and each summary says which ran;
 - `qrm render --noise`: the global model at rate 0 gives the light map of the ideal analytic
   oracle cell for cell (the same p_k, bit for bit); at p2 = 1e-4 its RMSE is over 10x the ideal
   one; two logical trajectories per cell run and the summary records the noise.
@@ -22,9 +24,9 @@ import subprocess
 import sys
 
 
-def run(qrm, out, threads):
+def run(qrm, out, threads, *flags):
     cmd = [qrm, "noise", "--steps", "1", "--trajectories", "100", "--kmax", "6", "--seeds", "4", "--rates", "1e-4,1e-3",
-           "--threads", str(threads), "--out", out, "--quiet"]
+           "--threads", str(threads), "--out", out, "--quiet", *flags]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         sys.exit("qrm noise: exit %d: %s" % (r.returncode, r.stderr))
@@ -36,7 +38,19 @@ def main():
     out1, out2 = os.path.join(work, "noise_t1"), os.path.join(work, "noise_t2")
     summary = run(qrm, out1, 1)
     run(qrm, out2, 2)
+    out_unfused = os.path.join(work, "noise_unfused")
+    unfused = run(qrm, out_unfused, 2, "--fuse", "off")
     failures = []
+    if summary.get("fuse") is not True or unfused.get("fuse") is not False:
+        failures.append("the summaries' fuse: %s (default), %s (--fuse off)" % (summary.get("fuse"), unfused.get("fuse")))
+    # Fused trajectories draw the same errors: the same oscillation to rounding.
+    fused_rows = list(csv.DictReader(open(os.path.join(out1, "noise_oscillation.csv"))))
+    plain_rows = list(csv.DictReader(open(os.path.join(out_unfused, "noise_oscillation.csv"))))
+    if len(fused_rows) != len(plain_rows):
+        failures.append("--fuse off wrote %d oscillation rows, fused %d" % (len(plain_rows), len(fused_rows)))
+    for f, u in zip(fused_rows, plain_rows):
+        if abs(float(f["noisy"]) - float(u["noisy"])) > 1e-9:
+            failures.append("k=%s %s: fused %s, --fuse off %s" % (f["k"], f["model"], f["noisy"], u["noisy"]))
     a = summary["exact"]
     theta = math.asin(math.sqrt(a))
     rows = list(csv.DictReader(open(os.path.join(out1, "noise_oscillation.csv"))))

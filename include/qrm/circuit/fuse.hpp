@@ -73,6 +73,21 @@ struct fusion_report {
   unsigned chunk_qubits = 0;  // fused within runs over this many qubits (0: across the program)
 };
 
+// Where each input op of fuse() went, for a caller that changes a few blocks afterwards (noise
+// trajectories insert the Pauli errors that fire into the blocks they fall in and reuse the rest:
+// noise/fused_trajectories.hpp).
+struct fusion_trace {
+  static constexpr std::size_t none = static_cast<std::size_t>(-1);
+  struct block {
+    std::vector<std::size_t> ops;  // input ops, in an order that applies them correctly
+    std::vector<qubit_index> qubits;  // sorted
+    std::size_t first_output = 0, last_output = 0;  // the output ops written for it (maybe none: an identity)
+  };
+  std::vector<std::size_t> output_of;  // per input op written alone: its output index; none if in a block
+  std::vector<std::size_t> block_of;   // per input op in a fused block: its index in blocks; none if alone
+  std::vector<block> blocks;
+};
+
 // The helpers below are templates only so that they are compiled where fuse() is used, not in
 // every unit that includes the umbrella header (see program.hpp).
 namespace detail {
@@ -279,10 +294,11 @@ inline std::vector<op::any> block_ops(dense_matrix m, const std::vector<qubit_in
 
 }  // namespace detail
 
-// fuse(p, options, report): p with runs of small gates multiplied into dense unitary ops on at
-// most options.max_qubits qubits (see the top of this header).
+// fuse(p, options, report, trace): p with runs of small gates multiplied into dense unitary ops
+// on at most options.max_qubits qubits (see the top of this header); `trace` says where each op went.
 template <int = 0>
-program fuse(const program& p, fusion_options options = {}, fusion_report* report = nullptr) {
+program fuse(const program& p, fusion_options options = {}, fusion_report* report = nullptr,
+             fusion_trace* trace = nullptr) {
   if (options.max_qubits < 1 || options.max_qubits > 6)
     throw std::invalid_argument("fuse: max_qubits must be 1..6, got " + std::to_string(options.max_qubits));
   const std::size_t k = options.max_qubits;
@@ -295,7 +311,13 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
   std::vector<detail::fusion_block> blocks;     // open and closed; closed ones are cleared
   std::vector<std::size_t> owner(p.width(), 0);  // block index + 1 of each qubit, 0: none
 
+  if (trace) {
+    *trace = {};
+    trace->output_of.assign(p.size(), fusion_trace::none);
+    trace->block_of.assign(p.size(), fusion_trace::none);
+  }
   auto write_op = [&](std::size_t i) {
+    if (trace) trace->output_of[i] = out.size();
     out.enter_layer(p.layer_of(i));
     out.push(p.ops()[i]);
   };
@@ -315,6 +337,10 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
           detail::fold_unitary(m, *std::get_if<op::unitary_op>(&o), blk.qubits);
       }
       detail::drop_rounding_residue(m, blk.ops.size());
+      if (trace) {
+        for (std::size_t i : blk.ops) trace->block_of[i] = trace->blocks.size();
+        trace->blocks.push_back({blk.ops, blk.qubits, out.size(), 0});
+      }
       out.enter_layer(p.layer_of(blk.ops[0]));
       if (blk.qubits.size() == 1) {
         out.push(op::gate1_op{gate::u(m(0, 0), m(0, 1), m(1, 0), m(1, 1)), blk.qubits[0], {}});
@@ -325,6 +351,7 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
           ++rep.block_ops;
         }
       }
+      if (trace) trace->blocks.back().last_output = out.size();
       ++rep.fused_blocks;
       ++rep.blocks_by_width[blk.qubits.size()];
     }
