@@ -158,6 +158,15 @@ inline void fold_unitary(dense_matrix& m, const op::unitary_op& o, const std::ve
   }
 }
 
+// Applies a fusable op (gate1 or unitary) to every column of m, in the block's local bits.
+template <int = 0>
+inline void fold_op(dense_matrix& m, const op::any& o, const std::vector<qubit_index>& qubits) {
+  if (const auto* g = std::get_if<op::gate1_op>(&o))
+    fold_gate1(m, *g, qubits);
+  else
+    fold_unitary(m, *std::get_if<op::unitary_op>(&o), qubits);
+}
+
 // Zeroes the real and imaginary parts of a fused block that are no larger than the rounding
 // error of its own product (`folded` products, each adding a few units in the last place to an
 // entry of at most 1): what should be exact zeros (cos(pi/2), phases that cancel) comes out
@@ -329,13 +338,7 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
     } else {
       std::sort(blk.qubits.begin(), blk.qubits.end());
       dense_matrix m = dense_matrix::identity(std::size_t{1} << blk.qubits.size());
-      for (std::size_t i : blk.ops) {
-        const op::any& o = p.ops()[i];
-        if (o.index() == 0)
-          detail::fold_gate1(m, *std::get_if<op::gate1_op>(&o), blk.qubits);
-        else
-          detail::fold_unitary(m, *std::get_if<op::unitary_op>(&o), blk.qubits);
-      }
+      for (std::size_t i : blk.ops) detail::fold_op(m, p.ops()[i], blk.qubits);
       detail::drop_rounding_residue(m, blk.ops.size());
       if (trace) {
         for (std::size_t i : blk.ops) trace->block_of[i] = trace->blocks.size();

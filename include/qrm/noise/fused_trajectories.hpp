@@ -220,11 +220,7 @@ class basic_fused_noisy_circuit {
     dense_matrix m = dense_matrix::identity(std::size_t{1} << blk.qubits.size());
     std::size_t folded = 0;
     for (std::size_t i : blk.ops) {
-      const op::any& o = seg.gates.ops()[i];
-      if (const auto* g1 = std::get_if<op::gate1_op>(&o))
-        detail::fold_gate1(m, *g1, blk.qubits);
-      else
-        detail::fold_unitary(m, *std::get_if<op::unitary_op>(&o), blk.qubits);
+      detail::fold_op(m, seg.gates.ops()[i], blk.qubits);
       ++folded;
       for (const fired* f : errors)
         if (f->anchor == i) {
