@@ -16,7 +16,8 @@
 // cell (1, 1), one step (18 qubits decomposed: A 917 gates, Q 2051), 4 trajectories through
 // Q^4 A on one thread, gate by gate (fuse 0) or fused (fuse 1, qrm::fused_noisy_circuit). Model:
 // 0 depolarizing p2 = 1e-4, 1 depolarizing p2 = 1e-2 (errors in most blocks), 2 the
-// superconducting preset (T1/T2: damping after every gate, so nothing fuses).
+// superconducting preset (T1 so short that a damping draw may jump in every run: event by event),
+// 3 the ion preset (T1 = 1000 s: damping fused as K0; dephasing errors folded in).
 #include <benchmark/benchmark.h>
 
 #include <complex>
@@ -100,7 +101,8 @@ void BM_noisy_trajectories(benchmark::State& st) {
   const qrm::estimation_problem problem{w.circuit, {qrm::control{w.out, true}}};
   const qrm::noise_model model = st.range(1) == 0   ? qrm::depolarizing_noise(1e-5, 1e-4)
                                  : st.range(1) == 1 ? qrm::depolarizing_noise(1e-3, 1e-2)
-                                                    : qrm::noise_preset("superconducting");
+                                 : st.range(1) == 2 ? qrm::noise_preset("superconducting")
+                                                    : qrm::noise_preset("ion");
   qrm::noisy_oracle_options o;
   o.level = qrm::noise_level::gates;
   o.trajectories = 4;
@@ -127,7 +129,7 @@ void scope_args(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_noisy_trajectories)
     ->ArgNames({"fuse", "model"})
-    ->ArgsProduct({{0, 1}, {0, 1, 2}})
+    ->ArgsProduct({{0, 1}, {0, 1, 2, 3}})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)

@@ -198,16 +198,19 @@ namespace {
 // Runs trajectories of `c` gate by gate and fused at `width` from the same seeds: the same errors
 // (the generators end equal) and the same states. Bound: the fused blocks' rounding, a few units
 // of 1e-16 per amplitude (measured up to 1.6e-15 on the 18-qubit walk).
-void check_fused_trajectories(const qrm::noisy_circuit& c, unsigned width, std::size_t trajectories, unsigned runs) {
+// Returns how many runs took the fused ops (the others reran event by event: a damping draw).
+std::size_t check_fused_trajectories(const qrm::noisy_circuit& c, unsigned width, std::size_t trajectories,
+                                     unsigned runs) {
   const qrm::fused_noisy_circuit f(c, width);
-  CHECK(f.fused_ops() <= c.circuit.size());
+  CHECK(f.fused_ops() <= f.gates().size());
+  std::size_t fused_runs = 0;
   for (std::size_t t = 0; t < trajectories; ++t) {
     CAPTURE(t);
     qrm::trajectory_state plain(c.width()), fused(c.width());
     qrm::rng g = qrm::rng::stream(11, t), h = qrm::rng::stream(11, t);
     for (unsigned r = 0; r < runs; ++r) {
       qrm::apply_noisy(plain, c, g);
-      qrm::apply_noisy(fused, f, h);
+      fused_runs += f.apply(fused, h);
     }
     CHECK(g() == h());
     double worst = 0;
@@ -215,6 +218,7 @@ void check_fused_trajectories(const qrm::noisy_circuit& c, unsigned width, std::
       worst = std::max(worst, std::abs(plain.amplitudes()[i] - fused.amplitudes()[i]));
     CHECK(worst <= 1e-12);
   }
+  return fused_runs;
 }
 }  // namespace
 
@@ -236,11 +240,16 @@ TEST_CASE("fused trajectories: the same errors and states as gate by gate, error
     }
     check_fused_trajectories(both, 0, 2, 1);
   }
-  SUBCASE("every width, with relaxation (segments end at damping), twice over") {
-    const auto c = qrm::noisy_grover_circuits_of(qrm::sine_integral_problem(3), mixed_model(), o);
+  SUBCASE("every width, with relaxation: damping as K0 in the blocks, or event by event where it may jump") {
+    qrm::noise_model long_t1 = mixed_model();  // damping draws rarely below gamma: most runs fused
+    long_t1.t1 = 0.5;
+    long_t1.t2 = 20e-6;
+    const auto c = qrm::noisy_grover_circuits_of(qrm::sine_integral_problem(3), long_t1, o);
+    const auto strong_damping = qrm::noisy_grover_circuits_of(qrm::sine_integral_problem(3), mixed_model(), o);
     for (unsigned width = 0; width <= 6; ++width) {
       CAPTURE(width);
-      check_fused_trajectories(c.grover, width, 6, 2);
+      CHECK(check_fused_trajectories(c.grover, width, 6, 2) >= 10);
+      CHECK(check_fused_trajectories(strong_damping.grover, width, 6, 2) < 12);
     }
   }
   SUBCASE("every width, depolarizing only (one segment)") {

@@ -7,6 +7,8 @@
 // sqrt(gamma) |0><1|) with probability gamma P(qubit = 1) and otherwise applies K0 = diag(1,
 // sqrt(1 - gamma)), renormalising either way. The average over trajectories of any probability is
 // an unbiased estimate of the density-matrix value (the unravelling of each channel is exact).
+// Damping leaves the state unnormalised until the end of the circuit (the jump draws compare
+// ratios), which saves a pass per event.
 // Every event consumes the same draws whatever the state, and trajectory i draws from
 // rng::stream(seed, i), so results do not depend on threads or on the order trajectories run.
 #pragma once
@@ -43,8 +45,23 @@ inline void apply_random_pauli(trajectory_state& s, const std::vector<qubit_inde
     }
 }
 
+// K0 = diag(1, sqrt(1 - gamma)), amplitude damping's no-jump operator (not unitary).
+template <int = 0>
+inline gate1 damping_no_jump(double gamma) {
+  return gate::u(1.0, 0.0, 0.0, std::sqrt(1.0 - gamma));
+}
+
+// Amplitude damping of qubit q, leaving the state scaled by a positive factor (normalize_state
+// restores it): the jump probability gamma P(q = 1) = gamma one / total does not depend on the
+// scale. A draw u >= gamma cannot jump whatever the state, so then K0 is one diagonal pass with
+// no sums (the common case: gamma is small); below gamma the sums decide, as the same draw would.
 template <int = 0>
 inline void apply_damping(trajectory_state& s, qubit_index q, double gamma, rng& g) {
+  const double u = g.uniform();
+  if (!(u < gamma)) {
+    s.apply_gate1(damping_no_jump(gamma), q, {});
+    return;
+  }
   const std::span<std::complex<double>> a = s.amplitudes();
   const std::uint64_t bit = std::uint64_t{1} << q;
   double one = 0, total = 0;
@@ -53,8 +70,7 @@ inline void apply_damping(trajectory_state& s, qubit_index q, double gamma, rng&
     total += w;
     if (i & bit) one += w;
   }
-  const double jump = gamma * one / total;
-  if (g.uniform() < jump) {
+  if (u < gamma * one / total) {
     const double scale = 1.0 / std::sqrt(one);
     for (std::uint64_t i = 0; i < a.size(); ++i)
       if (i & bit) {
@@ -62,9 +78,15 @@ inline void apply_damping(trajectory_state& s, qubit_index q, double gamma, rng&
         a[i] = 0;
       }
   } else {
-    const double scale0 = 1.0 / std::sqrt(total - gamma * one), scale1 = scale0 * std::sqrt(1.0 - gamma);
-    for (std::uint64_t i = 0; i < a.size(); ++i) a[i] *= (i & bit) ? scale1 : scale0;
+    s.apply_gate1(damping_no_jump(gamma), q, {});
   }
+}
+
+// Scales the state to norm 1 (after apply_damping).
+template <int = 0>
+inline void normalize_state(trajectory_state& s) {
+  const double scale = 1.0 / std::sqrt(s.norm_squared());
+  for (std::complex<double>& z : s.amplitudes()) z *= scale;
 }
 }  // namespace detail
 
@@ -85,6 +107,8 @@ inline void apply_noisy(trajectory_state& s, const noisy_circuit& c, rng& g) {
         break;
       case noise_event_kind::damping: detail::apply_damping(s, e.qubits[0], e.probability, g); break;
     }
+  if (std::any_of(c.events.begin(), c.events.end(), [](const noise_event& e) { return e.kind == noise_event_kind::damping; }))
+    detail::normalize_state(s);
 }
 
 // measured_probability(state, condition, readout): the probability that measuring the condition's
