@@ -7,9 +7,9 @@
 //
 //   - Amplitude damping enters the fused circuit as its no-jump operator K0 (a diagonal gate, not
 //     unitary; trajectories.hpp defers the normalisation). A jump needs the state at its event,
-//     but no jump is possible when the event's draw is at least gamma: a trajectory whose draws
-//     all are reruns the circuit event by event from the same draws (apply_noisy on the noisy
-//     circuit). With the ion preset that is about one run of Q in 1000 on the paper's walk; with
+//     but none is possible when the event's draw is at least gamma. A run in which some damping
+//     draw falls below gamma is rerun event by event from the same draws (apply_noisy on the
+//     noisy circuit): with the ion preset about one run of Q in 1000 on the paper's walk, with
 //     the superconducting one (gamma summing to ~35 over Q) every run, so nothing fuses there.
 //   - Each Pauli of a fired error (Pauli channels, dephasing) acts on one qubit q and commutes
 //     with every gate between the last gate on q before it (its anchor) and the event, so it
@@ -20,11 +20,9 @@
 //     so it has the same errors and the same state to rounding (tests/test_noise.cpp: 1e-12).
 #pragma once
 
-#include <algorithm>
 #include <complex>
 #include <cstddef>
 #include <cstdint>
-#include <span>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -38,9 +36,9 @@
 
 namespace qrm {
 
-// fused_noisy_circuit(circuit, width): see the header comment. width 1..6 fuses every segment
-// to that width; 0 lets fuse_cheapest choose per segment (within or across the dense backend's
-// chunked runs, as for complex<double> amplitudes with default dense_options).
+// fused_noisy_circuit(circuit, width): see the header comment. width 1..6 fuses the circuit to
+// that width; 0 lets fuse_cheapest choose (within or across the dense backend's chunked runs, as
+// for complex<double> amplitudes with default dense_options).
 template <int = 0>
 class basic_fused_noisy_circuit {
  public:
