@@ -933,6 +933,36 @@ TEST_CASE("fuse_cheapest keeps the width the cost model rates cheapest, and the 
   }
 }
 
+namespace {
+// A fusion_trace describes `fused` (made from p): every output op belongs to exactly one input
+// op written alone (the same kind on the same qubits) or to one block, whose qubits hold its ops'.
+void check_trace(const qrm::program& p, const qrm::program& fused, const qrm::fusion_trace& t) {
+  REQUIRE(t.output_of.size() == p.size());
+  REQUIRE(t.block_of.size() == p.size());
+  std::vector<int> covered(fused.size(), 0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    CAPTURE(i);
+    CHECK((t.output_of[i] == qrm::fusion_trace::none) != (t.block_of[i] == qrm::fusion_trace::none));
+    if (t.output_of[i] == qrm::fusion_trace::none) continue;
+    REQUIRE(t.output_of[i] < fused.size());
+    ++covered[t.output_of[i]];
+    CHECK(fused.ops()[t.output_of[i]].index() == p.ops()[i].index());
+    CHECK(qrm::op_qubits(fused.ops()[t.output_of[i]]) == qrm::op_qubits(p.ops()[i]));
+  }
+  for (std::size_t b = 0; b < t.blocks.size(); ++b) {
+    const qrm::fusion_trace::block& blk = t.blocks[b];
+    REQUIRE(blk.last_output <= fused.size());
+    for (std::size_t o = blk.first_output; o < blk.last_output; ++o) ++covered[o];
+    for (std::size_t i : blk.ops) {
+      CHECK(t.block_of[i] == b);
+      for (qrm::qubit_index q : qrm::op_qubits(p.ops()[i]))
+        CHECK(std::find(blk.qubits.begin(), blk.qubits.end(), q) != blk.qubits.end());
+    }
+  }
+  CHECK(std::all_of(covered.begin(), covered.end(), [](int c) { return c == 1; }));
+}
+}  // namespace
+
 TEST_CASE("fuse_cheapest with chunk qubits keeps the cheaper of fusing within runs and across, and the state") {
   // Candidates: widths 2-3 both ways, 4-6 across the program (see fuse_cheapest).
   qrm::rng g(8);
@@ -944,8 +974,10 @@ TEST_CASE("fuse_cheapest with chunk qubits keeps the cheaper of fusing within ru
   for (int trial = 0; trial < 6; ++trial) {
     const qrm::program p = random_gate_program(10, 150, g, true);
     qrm::fusion_report chosen;
-    const qrm::program f = qrm::fuse_cheapest(p, within, &chosen);
+    qrm::fusion_trace trace;
+    const qrm::program f = qrm::fuse_cheapest(p, within, &chosen, true, &trace);
     CHECK(chosen.estimated_passes == qrm::estimated_passes(f));
+    check_trace(p, f, trace);
     for (unsigned k = 2; k <= 6; ++k)
       for (const unsigned scope : {6u, 0u}) {
         if (scope != 0 && k > 3) continue;  // blocks of 4+ qubits wait on arithmetic: fused across only
@@ -963,7 +995,8 @@ TEST_CASE("fuse_cheapest with chunk qubits keeps the cheaper of fusing within ru
       qrm::fusion_options fo = within;
       fo.max_qubits = k;
       qrm::fusion_report one, runs, across;
-      (void)qrm::fuse_cheaper_scope(p, fo, &one);
+      qrm::fusion_trace one_trace;
+      check_trace(p, qrm::fuse_cheaper_scope(p, fo, &one, &one_trace), one_trace);
       (void)qrm::fuse(p, fo, &runs);
       fo.chunk_qubits = 0;
       (void)qrm::fuse(p, fo, &across);

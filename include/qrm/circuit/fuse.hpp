@@ -484,7 +484,7 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
   return out;
 }
 
-// fuse_cheaper_scope(p, options, report): with options.chunk_qubits set and a width of 2 or 3,
+// fuse_cheaper_scope(p, options, report, trace): with options.chunk_qubits set and a width of 2 or 3,
 // fuse() both within runs and across the program and keep the one estimated_passes rates cheaper
 // (within runs on a tie); at widths 4-6, across only: their 16- to 64-row blocks wait on
 // arithmetic in every scalar type (detail::memory_bound_dim), so the backend applies them op by
@@ -493,44 +493,51 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
 // 122.9 across and ran 3-9% faster; the decomposed walk (21 qubits, 6-qubit blocks) is rated 205.4
 // against 184.9 and ran 11-25% slower within runs.
 template <int = 0>
-program fuse_cheaper_scope(const program& p, fusion_options options, fusion_report* report = nullptr) {
+program fuse_cheaper_scope(const program& p, fusion_options options, fusion_report* report = nullptr,
+                           fusion_trace* trace = nullptr) {
   if (options.max_qubits > 3) options.chunk_qubits = 0;
   fusion_report rep;
-  program best = fuse(p, options, &rep);
+  program best = fuse(p, options, &rep, trace);
   if (options.chunk_qubits != 0) {
     fusion_report across_rep;
+    fusion_trace across_trace;
     options.chunk_qubits = 0;
-    program across = fuse(p, options, &across_rep);
+    program across = fuse(p, options, &across_rep, trace ? &across_trace : nullptr);
     if (across_rep.estimated_passes < rep.estimated_passes) {
       best = std::move(across);
       rep = std::move(across_rep);
+      if (trace) *trace = std::move(across_trace);
     }
   }
   if (report) *report = std::move(rep);
   return best;
 }
 
-// fuse_cheapest(p, options, report, compare_scopes): fuse() at the width from 2 to 6
+// fuse_cheapest(p, options, report, compare_scopes, trace): fuse() at the width from 2 to 6
 // (merge_disjoint on, the other options as given) whose program estimated_passes rates cheapest,
 // the narrowest on a tie. Width 1 only merges gates on one qubit, which width 2 does too. With
 // options.chunk_qubits set, each width is fused as fuse_cheaper_scope chooses, or within runs
 // only when compare_scopes is false.
 template <int = 0>
 program fuse_cheapest(const program& p, fusion_options options, fusion_report* report = nullptr,
-                      bool compare_scopes = true) {
+                      bool compare_scopes = true, fusion_trace* trace = nullptr) {
   program best;
   fusion_report best_report;
+  fusion_trace best_trace, candidate_trace;
+  fusion_trace* const candidate = trace ? &candidate_trace : nullptr;
   options.merge_disjoint = true;
   for (unsigned k = 2; k <= 6; ++k) {
     fusion_report rep;
     options.max_qubits = k;
-    program f = compare_scopes ? fuse_cheaper_scope(p, options, &rep) : fuse(p, options, &rep);
+    program f = compare_scopes ? fuse_cheaper_scope(p, options, &rep, candidate) : fuse(p, options, &rep, candidate);
     if (k == 2 || rep.estimated_passes < best_report.estimated_passes) {
       best = std::move(f);
       best_report = std::move(rep);
+      if (trace) best_trace = std::move(candidate_trace);
     }
   }
   if (report) *report = std::move(best_report);
+  if (trace) *trace = std::move(best_trace);
   return best;
 }
 

@@ -37,8 +37,8 @@
 namespace qrm {
 
 // fused_noisy_circuit(circuit, width): see the header comment. width 1..6 fuses the circuit to
-// that width; 0 lets fuse_cheapest choose (within or across the dense backend's chunked runs, as
-// for complex<double> amplitudes with default dense_options).
+// that width (fuse_cheaper_scope), 0 at the width fuse_cheapest chooses, for complex<double>
+// amplitudes with default dense_options.
 template <int = 0>
 class basic_fused_noisy_circuit {
  public:
@@ -83,16 +83,8 @@ class basic_fused_noisy_circuit {
       throw std::invalid_argument("fused_noisy_circuit: the events run " + std::to_string(next_op) + " of the " +
                                   std::to_string(ops.size()) + " ops");
     fusion_options o = dense_fusion_options<std::complex<double>>();
-    if (width == 0) {
-      fusion_report chosen;
-      (void)fuse_cheapest(gates_, o, &chosen);
-      o.max_qubits = chosen.max_qubits;
-      o.chunk_qubits = chosen.chunk_qubits;
-    } else {
-      o.max_qubits = width;
-      if (width > 3) o.chunk_qubits = 0;
-    }
-    fused_ = fuse(gates_, o, nullptr, &trace_);
+    o.max_qubits = width;
+    fused_ = width == 0 ? fuse_cheapest(gates_, o, nullptr, true, &trace_) : fuse_cheaper_scope(gates_, o, nullptr, &trace_);
   }
 
   const noisy_circuit& circuit() const { return c_; }
@@ -142,14 +134,8 @@ class basic_fused_noisy_circuit {
       out.push_back({ch.anchors[0], e.qubits[0], gate::z()});
       return true;
     }
-    const std::uint64_t strings = (std::uint64_t{1} << (2 * e.qubits.size())) - 1;
-    const std::uint64_t r = 1 + g.below(strings);
-    for (std::size_t i = 0; i < e.qubits.size(); ++i) switch ((r >> (2 * i)) & 3u) {
-        case 1: out.push_back({ch.anchors[i], e.qubits[i], gate::x()}); break;
-        case 2: out.push_back({ch.anchors[i], e.qubits[i], gate::y()}); break;
-        case 3: out.push_back({ch.anchors[i], e.qubits[i], gate::z()}); break;
-        default: break;
-      }
+    detail::for_each_random_pauli(e.qubits.size(), g,
+                                  [&](std::size_t i, const gate1& p) { out.push_back({ch.anchors[i], e.qubits[i], p}); });
     return true;
   }
 

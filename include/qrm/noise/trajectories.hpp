@@ -33,16 +33,23 @@ namespace qrm {
 using trajectory_state = state_vector<std::complex<double>>;
 
 namespace detail {
-template <int = 0>
-inline void apply_random_pauli(trajectory_state& s, const std::vector<qubit_index>& qs, rng& g) {
-  const std::uint64_t strings = (std::uint64_t{1} << (2 * qs.size())) - 1;
+// Draws one of the 4^k - 1 non-identity Pauli strings on k qubits, uniformly, and calls f(i, P)
+// for each qubit i the string does not leave alone (P = X, Y or Z).
+template <class F>
+void for_each_random_pauli(std::size_t k, rng& g, F&& f) {
+  const std::uint64_t strings = (std::uint64_t{1} << (2 * k)) - 1;
   const std::uint64_t r = 1 + g.below(strings);
-  for (std::size_t i = 0; i < qs.size(); ++i) switch ((r >> (2 * i)) & 3u) {
-      case 1: s.apply_gate1(gate::x(), qs[i], {}); break;
-      case 2: s.apply_gate1(gate::y(), qs[i], {}); break;
-      case 3: s.apply_gate1(gate::z(), qs[i], {}); break;
+  for (std::size_t i = 0; i < k; ++i) switch ((r >> (2 * i)) & 3u) {
+      case 1: f(i, gate::x()); break;
+      case 2: f(i, gate::y()); break;
+      case 3: f(i, gate::z()); break;
       default: break;
     }
+}
+
+template <int = 0>
+inline void apply_random_pauli(trajectory_state& s, const std::vector<qubit_index>& qs, rng& g) {
+  for_each_random_pauli(qs.size(), g, [&](std::size_t i, const gate1& p) { s.apply_gate1(p, qs[i], {}); });
 }
 
 // K0 = diag(1, sqrt(1 - gamma)), amplitude damping's no-jump operator (not unitary).
@@ -97,6 +104,7 @@ inline void apply_noisy(trajectory_state& s, const noisy_circuit& c, rng& g) {
     throw std::invalid_argument("apply_noisy: the circuit needs " + std::to_string(c.width()) +
                                 " qubits but the state has " + std::to_string(s.num_qubits()));
   const auto& ops = c.circuit.ops();
+  bool damped = false;
   for (const noise_event& e : c.events) switch (e.kind) {
       case noise_event_kind::gate: emit_op(ops[e.op], s); break;
       case noise_event_kind::pauli:
@@ -105,10 +113,12 @@ inline void apply_noisy(trajectory_state& s, const noisy_circuit& c, rng& g) {
       case noise_event_kind::dephasing:
         if (g.uniform() < e.probability) s.apply_gate1(gate::z(), e.qubits[0], {});
         break;
-      case noise_event_kind::damping: detail::apply_damping(s, e.qubits[0], e.probability, g); break;
+      case noise_event_kind::damping:
+        detail::apply_damping(s, e.qubits[0], e.probability, g);
+        damped = true;
+        break;
     }
-  if (std::any_of(c.events.begin(), c.events.end(), [](const noise_event& e) { return e.kind == noise_event_kind::damping; }))
-    detail::normalize_state(s);
+  if (damped) detail::normalize_state(s);
 }
 
 // measured_probability(state, condition, readout): the probability that measuring the condition's
