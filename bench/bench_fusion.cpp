@@ -16,8 +16,9 @@
 // cell (1, 1), one step (18 qubits decomposed: A 917 gates, Q 2051), 4 trajectories through
 // Q^4 A on one thread, gate by gate (fuse 0) or fused (fuse 1, qrm::fused_noisy_circuit). Model:
 // 0 depolarizing p2 = 1e-4, 1 depolarizing p2 = 1e-2 (errors in most blocks), 2 the
-// superconducting preset (T1 so short that a damping draw may jump in every run: event by event),
-// 3 the ion preset (T1 = 1000 s: damping fused as K0; dephasing errors folded in).
+// superconducting preset (T1 so short that damping draws may jump in every run: each run is cut
+// there and fused afresh), 3 the ion preset (T1 = 1000 s: damping fused as K0; dephasing errors
+// folded in).
 #include <benchmark/benchmark.h>
 
 #include <complex>

@@ -198,7 +198,7 @@ namespace {
 // Runs trajectories of `c` gate by gate and fused at `width` from the same seeds: the same errors
 // (the generators end equal) and the same states. Bound: the fused blocks' rounding, a few units
 // of 1e-16 per amplitude (measured up to 1.6e-15 on the 18-qubit walk).
-// Returns how many runs took the fused ops (the others reran event by event: a damping draw).
+// Returns how many runs took the shared fused ops (the others were cut at damping draws below gamma).
 std::size_t check_fused_trajectories(const qrm::noisy_circuit& c, unsigned width, std::size_t trajectories,
                                      unsigned runs) {
   const qrm::fused_noisy_circuit f(c, width);
@@ -240,7 +240,7 @@ TEST_CASE("fused trajectories: the same errors and states as gate by gate, error
     }
     check_fused_trajectories(both, 0, 2, 1);
   }
-  SUBCASE("every width, with relaxation: damping as K0 in the blocks, or event by event where it may jump") {
+  SUBCASE("every width, with relaxation: damping as K0 in the blocks, cut and fused afresh where it may jump") {
     qrm::noise_model long_t1 = mixed_model();  // damping draws rarely below gamma: most runs fused
     long_t1.t1 = 0.5;
     long_t1.t2 = 20e-6;
@@ -251,6 +251,18 @@ TEST_CASE("fused trajectories: the same errors and states as gate by gate, error
       CHECK(check_fused_trajectories(c.grover, width, 6, 2) >= 10);
       CHECK(check_fused_trajectories(strong_damping.grover, width, 6, 2) < 12);
     }
+  }
+  SUBCASE("an error right after a damping event that may jump comes after its decision") {
+    qrm::noisy_circuit c{qrm::program(2), {}, 0};
+    c.circuit.apply_gate1(qrm::gate::h(), 0, {});
+    const qrm::control on0{0, true};
+    c.circuit.apply_gate1(qrm::gate::x(), 1, std::span<const qrm::control>(&on0, 1));
+    c.circuit.apply_gate1(qrm::gate::ry(0.7), 0, {});
+    using kind = qrm::noise_event_kind;
+    c.events = {{kind::gate, 0, {}, 0},        {kind::gate, 1, {}, 0},      {kind::damping, 0, {0}, 0.6},
+                {kind::pauli, 0, {0, 1}, 1.0}, {kind::dephasing, 0, {0}, 0.5}, {kind::gate, 2, {}, 0},
+                {kind::damping, 0, {1}, 0.9}};
+    CHECK(check_fused_trajectories(c, 0, 32, 2) < 40);  // most runs are cut
   }
   SUBCASE("every width, depolarizing only (one segment)") {
     const auto c = qrm::noisy_grover_circuits_of(qrm::sine_integral_problem(4), strong, o);
@@ -270,6 +282,8 @@ TEST_CASE("fused trajectories: the same errors and states as gate by gate, error
     std::swap(bad.events[0], bad.events[2]);
     REQUIRE(bad.events[0].kind == qrm::noise_event_kind::gate);
     CHECK_THROWS_WITH_AS(qrm::fused_noisy_circuit(bad, 0), doctest::Contains("the events must run the ops in order"),
+                         std::invalid_argument);
+    CHECK_THROWS_WITH_AS(qrm::fused_noisy_circuit(c.a, 7), doctest::Contains("must be 0 (chosen) or 1..6, got 7"),
                          std::invalid_argument);
   }
 }

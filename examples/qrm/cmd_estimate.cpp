@@ -6,6 +6,7 @@
 #include <limits>
 #include <qrm/qrm.hpp>
 #include <set>
+#include <stdexcept>
 #include <string>
 
 #include "commands.hpp"
@@ -63,7 +64,19 @@ int cmd_estimate(args& a) {
   est.settings.exact_probabilities = exact;
   qrm::analytic_oracle oracle(p);
   qrm::rng g(seed);
-  const qrm::estimation_result r = qrm::estimate_amplitude(oracle, est.settings, g);
+  qrm::estimation_result r;
+  try {
+    r = qrm::estimate_amplitude(oracle, est.settings, g);
+  } catch (const std::domain_error& e) {  // FAE without rescale above a = 1/4: said in the flags' terms
+    if (est.settings.kind != qrm::estimator_kind::fae || est.settings.fae.rescale) throw;
+    std::string why = e.what();
+    const std::string internal = "faster_amplitude_estimation: ";
+    if (why.rfind(internal, 0) == 0) why.erase(0, internal.size());
+    const std::string advice = "; enable rescale";
+    if (why.size() >= advice.size() && why.compare(why.size() - advice.size(), advice.size(), advice) == 0)
+      why.replace(why.size() - advice.size(), advice.size(), "; drop --no-rescale");
+    throw std::runtime_error("--no-rescale: " + why);
+  }
   const json_object& options = est.options;
 
   if (format == "text") {

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -249,9 +250,18 @@ int cmd_noise(args& a) {
       double sum = 0, sq = 0, se = 0, damping = 0;
       std::size_t se_count = 0;
       std::uint64_t max_power = 0;
-      for (std::size_t j = 0; j < seeds; ++j) {  // the same seeds for every estimator and rate
+      std::string cannot;  // why the estimator cannot run on this oracle (FAE without rescale above a = 1/4)
+      for (std::size_t j = 0; j < seeds && cannot.empty(); ++j) {  // the same seeds for every estimator and rate
         qrm::rng g = qrm::rng::stream(seed, j);
-        const qrm::estimation_result r = qrm::estimate_amplitude(oracle, settings, g);
+        qrm::estimation_result r;
+        try {
+          r = qrm::estimate_amplitude(oracle, settings, g);
+        } catch (const std::domain_error& e) {
+          cannot = name == "fae" ? "the noise puts P(good) above 1/4, and FAE runs here without rescale, which needs at most 1/4"
+                                 : e.what();
+          for (; j < seeds; ++j) bar.advance();
+          break;
+        }
         sum += r.estimate;
         sq += (r.estimate - exact) * (r.estimate - exact);
         if (r.standard_error) {
@@ -261,6 +271,11 @@ int cmd_noise(args& a) {
         if (r.damping) damping += *r.damping;
         for (const auto& round : r.rounds) max_power = std::max(max_power, round.power);
         bar.advance();
+      }
+      if (!cannot.empty()) {
+        md_rows += "| " + label + " | " + name + " | cannot run: " + cannot + " | | | |\n";
+        json += std::string(ei ? "," : "") + json_string(name) + ":{\"cannot_run\":" + json_string(cannot) + "}";
+        continue;
       }
       const double n = static_cast<double>(seeds);
       const double mean = sum / n, bias = mean - exact, rmse = std::sqrt(sq / n);

@@ -12,6 +12,8 @@ On a paper_4x4 cell (1 step, a = 1/4, logical level, 100 trajectories):
 - the same seed gives byte-identical CSVs with 1 and 2 threads;
 - `--fuse off` (trajectories gate by gate) draws the same errors: the same oscillation to 1e-9,
   and each summary says which ran;
+- at p2 = 0.5 the noisy P(good) exceeds 1/4: the study still completes and says FAE (run
+  without rescale) cannot run there;
 - `qrm render --noise`: the global model at rate 0 gives the light map of the ideal analytic
   oracle cell for cell (the same p_k, bit for bit); at p2 = 1e-4 its RMSE is over 10x the ideal
   one; two logical trajectories per cell run and the summary records the noise.
@@ -86,6 +88,19 @@ def main():
     for f in ("noise_oscillation.csv", "noise_estimators.csv"):
         if open(os.path.join(out1, f), "rb").read() != open(os.path.join(out2, f), "rb").read():
             failures.append(f + " differs between 1 and 2 threads")
+    # Noise that pushes P(good) above 1/4 leaves FAE (without rescale) unable to run: the study says
+    # so for that estimator and still writes every file.
+    heavy_out = os.path.join(work, "noise_heavy")
+    heavy = subprocess.run([qrm, "noise", "--steps", "1", "--trajectories", "100", "--kmax", "2", "--seeds", "2",
+                            "--rates", "0.5", "--out", heavy_out, "--quiet"], capture_output=True, text=True)
+    if heavy.returncode != 0:
+        failures.append("qrm noise --rates 0.5: exit %d: %s" % (heavy.returncode, heavy.stderr))
+    else:
+        fae = json.loads(heavy.stdout)["models"][0]["estimators"]["fae"]
+        if "above 1/4" not in fae.get("cannot_run", ""):
+            failures.append("qrm noise --rates 0.5: fae %s, expected it cannot run" % fae)
+        if "| fae | cannot run: the noise puts P(good) above 1/4" not in open(os.path.join(heavy_out, "noise.md")).read():
+            failures.append("qrm noise --rates 0.5: noise.md does not say why fae cannot run")
     def render(name, *flags):
         d = os.path.join(work, "noise_render_" + name)
         r = subprocess.run([qrm, "render", "--scene", "paper_4x4", "--out", d, "--quiet", *flags],

@@ -8,9 +8,12 @@
 //   - Amplitude damping enters the fused circuit as its no-jump operator K0 (a diagonal gate, not
 //     unitary; trajectories.hpp defers the normalisation). A jump needs the state at its event,
 //     but none is possible when the event's draw is at least gamma. A run in which some damping
-//     draw falls below gamma is rerun event by event from the same draws (apply_noisy on the
-//     noisy circuit): with the ion preset about one run of Q in 1000 on the paper's walk, with
-//     the superconducting one (gamma summing to ~35 over Q) every run, so nothing fuses there.
+//     draws fall below gamma (with the ion preset about one run of Q in 1000 on the paper's walk,
+//     with the superconducting one, gamma summing to ~35 over Q, every run) is cut at those
+//     events: the gates between two of them, errors included, are fused for that run alone (at
+//     the width and scope chosen for the circuit), and each such event decides on the state it
+//     sees, as event by event. Nothing moves across a cut, so the decision sees exactly the state
+//     the gate-by-gate run would (a K0 of another qubit moved across it would change the odds).
 //   - Each Pauli of a fired error (Pauli channels, dephasing) acts on one qubit q and commutes
 //     with every gate between the last gate on q before it (its anchor) and the event, so it
 //     applies right after the anchor. An anchor written alone gets the Pauli as the next op; an
@@ -84,7 +87,12 @@ class basic_fused_noisy_circuit {
                                   std::to_string(ops.size()) + " ops");
     fusion_options o = dense_fusion_options<std::complex<double>>();
     o.max_qubits = width;
-    fused_ = width == 0 ? fuse_cheapest(gates_, o, nullptr, true, &trace_) : fuse_cheaper_scope(gates_, o, nullptr, &trace_);
+    fusion_report chosen;
+    fused_ = width == 0 ? fuse_cheapest(gates_, o, &chosen, true, &trace_)
+                        : fuse_cheaper_scope(gates_, o, &chosen, &trace_);
+    cut_options_ = o;
+    cut_options_.max_qubits = chosen.max_qubits;
+    cut_options_.chunk_qubits = chosen.chunk_qubits;
   }
 
   const noisy_circuit& circuit() const { return c_; }
@@ -93,20 +101,20 @@ class basic_fused_noisy_circuit {
   const program& fused() const { return fused_; }
   std::size_t fused_ops() const { return fused_.size(); }
 
-  // One trajectory on `state` (the same draws as apply_noisy(state, circuit(), g)); false if a
-  // damping draw made it rerun the circuit event by event.
+  // One trajectory on `state` (the same draws as apply_noisy(state, circuit(), g)); false if
+  // damping draws below gamma cut it, so it fused its gates afresh between those events.
   bool apply(trajectory_state& s, rng& g) const {
     if (s.num_qubits() < width())
       throw std::invalid_argument("apply_noisy: the circuit needs " + std::to_string(width()) +
                                   " qubits but the state has " + std::to_string(s.num_qubits()));
-    const rng start = g;
     std::vector<fired> errors;
-    for (const channel& ch : channels_)
-      if (!draw(c_.events[ch.event], ch, g, errors)) {  // a damping event that may jump
-        g = start;
-        apply_noisy(s, c_, g);
-        return false;
-      }
+    std::vector<cut> cuts;
+    for (const channel& ch : channels_) draw(c_.events[ch.event], ch, g, errors, cuts);
+    if (!cuts.empty()) {
+      apply_cut(s, errors, cuts);
+      detail::normalize_state(s);
+      return false;
+    }
     if (errors.empty()) {
       s.run_ops(fused_.ops());
     } else {
@@ -123,20 +131,54 @@ class basic_fused_noisy_circuit {
     qubit_index qubit;
     gate1 pauli;
   };
+  // A damping event whose draw fell below gamma: the state decides whether it jumps.
+  struct cut {
+    std::size_t k0;  // its K0 gate's index in gates_
+    qubit_index qubit;
+    double gamma, draw;
+  };
 
-  // The draws of apply_noisy for one channel, the Paulis of a fired error one per qubit; false
-  // for a damping draw below gamma (the state decides whether it jumps).
-  static bool draw(const noise_event& e, const channel& ch, rng& g, std::vector<fired>& out) {
-    const bool fires = g.uniform() < e.probability;
-    if (!fires) return true;
-    if (e.kind == noise_event_kind::damping) return false;
-    if (e.kind == noise_event_kind::dephasing) {
+  // The draws of apply_noisy for one channel: the Paulis of a fired error, one per qubit, or a cut.
+  static void draw(const noise_event& e, const channel& ch, rng& g, std::vector<fired>& out, std::vector<cut>& cuts) {
+    const double u = g.uniform();
+    if (!(u < e.probability)) return;
+    if (e.kind == noise_event_kind::damping) {
+      cuts.push_back({ch.anchors[0], e.qubits[0], e.probability, u});
+    } else if (e.kind == noise_event_kind::dephasing) {
       out.push_back({ch.anchors[0], e.qubits[0], gate::z()});
-      return true;
+    } else {
+      detail::for_each_random_pauli(e.qubits.size(), g, [&](std::size_t i, const gate1& p) {
+        out.push_back({ch.anchors[i], e.qubits[i], p});
+      });
     }
-    detail::for_each_random_pauli(e.qubits.size(), g,
-                                  [&](std::size_t i, const gate1& p) { out.push_back({ch.anchors[i], e.qubits[i], p}); });
-    return true;
+  }
+
+  // A run with cuts: the gates and the errors after their anchors, fused piece by piece between
+  // the cuts (in event order, so in gates_ order), each cut deciding on the state it sees.
+  void apply_cut(trajectory_state& s, const std::vector<fired>& errors, const std::vector<cut>& cuts) const {
+    const auto& gates = gates_.ops();
+    std::vector<std::vector<const fired*>> after(gates.size());
+    program piece(width());
+    for (const fired& f : errors) {
+      if (f.anchor == at_start)
+        piece.apply_gate1(f.pauli, f.qubit, {});
+      else
+        after[f.anchor].push_back(&f);
+    }
+    std::size_t next = 0;
+    for (std::size_t c = 0; c <= cuts.size(); ++c) {
+      const std::size_t end = c < cuts.size() ? cuts[c].k0 : gates.size();
+      for (; next < end; ++next) {
+        piece.push(gates[next]);
+        for (const fired* f : after[next]) piece.apply_gate1(f->pauli, f->qubit, {});
+      }
+      s.run_ops(fuse(piece, cut_options_).ops());
+      piece = program(width());
+      if (c == cuts.size()) break;
+      detail::apply_damping_drawn(s, cuts[c].qubit, cuts[c].gamma, cuts[c].draw);
+      for (const fired* f : after[next]) piece.apply_gate1(f->pauli, f->qubit, {});  // after the K0's place
+      ++next;
+    }
   }
 
   // The fused ops with the errors in place (see the header comment).
@@ -196,6 +238,7 @@ class basic_fused_noisy_circuit {
   noisy_circuit c_;
   program gates_, fused_;
   fusion_trace trace_;
+  fusion_options cut_options_;  // the width and scope the circuit was fused at
   std::vector<channel> channels_;
   bool damps_ = false;
 };

@@ -58,13 +58,13 @@ inline gate1 damping_no_jump(double gamma) {
   return gate::u(1.0, 0.0, 0.0, std::sqrt(1.0 - gamma));
 }
 
-// Amplitude damping of qubit q, leaving the state scaled by a positive factor (normalize_state
-// restores it): the jump probability gamma P(q = 1) = gamma one / total does not depend on the
-// scale. A draw u >= gamma cannot jump whatever the state, so then K0 is one diagonal pass with
-// no sums (the common case: gamma is small); below gamma the sums decide, as the same draw would.
+// Amplitude damping of qubit q with the uniform draw u (apply_damping draws it), leaving the state
+// scaled by a positive factor (normalize_state restores it): the jump probability gamma P(q = 1)
+// = gamma one / total does not depend on the scale. A draw u >= gamma cannot jump whatever the
+// state, so then K0 is one diagonal pass with no sums (the common case: gamma is small); below
+// gamma the sums decide.
 template <int = 0>
-inline void apply_damping(trajectory_state& s, qubit_index q, double gamma, rng& g) {
-  const double u = g.uniform();
+inline void apply_damping_drawn(trajectory_state& s, qubit_index q, double gamma, double u) {
   if (!(u < gamma)) {
     s.apply_gate1(damping_no_jump(gamma), q, {});
     return;
@@ -87,6 +87,11 @@ inline void apply_damping(trajectory_state& s, qubit_index q, double gamma, rng&
   } else {
     s.apply_gate1(damping_no_jump(gamma), q, {});
   }
+}
+
+template <int = 0>
+inline void apply_damping(trajectory_state& s, qubit_index q, double gamma, rng& g) {
+  apply_damping_drawn(s, q, gamma, g.uniform());
 }
 
 // Scales the state to norm 1 (after apply_damping).
