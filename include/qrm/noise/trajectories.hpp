@@ -69,21 +69,13 @@ inline void apply_damping_drawn(trajectory_state& s, qubit_index q, double gamma
     s.apply_gate1(damping_no_jump(gamma), q, {});
     return;
   }
-  const std::span<std::complex<double>> a = s.amplitudes();
-  const std::uint64_t bit = std::uint64_t{1} << q;
-  double one = 0, total = 0;
-  for (std::uint64_t i = 0; i < a.size(); ++i) {
-    const double w = std::norm(a[i]);
-    total += w;
-    if (i & bit) one += w;
-  }
+  // The two halves' weights by the backend's vector reductions (a scalar loop summing into one
+  // accumulator waited on every add: 19% of the superconducting preset's fused trajectories).
+  const control is_one{q, true}, is_zero{q, false};
+  const double one = s.probability(std::span<const control>(&is_one, 1));
+  const double total = one + s.probability(std::span<const control>(&is_zero, 1));
   if (u < gamma * one / total) {
-    const double scale = 1.0 / std::sqrt(one);
-    for (std::uint64_t i = 0; i < a.size(); ++i)
-      if (i & bit) {
-        a[i ^ bit] = a[i] * scale;
-        a[i] = 0;
-      }
+    s.apply_gate1(gate::u(0.0, 1.0 / std::sqrt(one), 0.0, 0.0), q, {});  // K1 = |0><1|, scaled
   } else {
     s.apply_gate1(damping_no_jump(gamma), q, {});
   }
