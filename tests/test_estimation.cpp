@@ -607,6 +607,15 @@ TEST_CASE("the library rows of README's bad-input table: exact messages") {
         "faster_amplitude_estimation: without rescale the amplitude must be at most 1/4, but P(good) = 0.500000; "
         "enable rescale");
   CHECK_THROWS_AS(qrm::faster_amplitude_estimation(half, qrm::fae_options{0.01, 5, false, true}, g), std::domain_error);
+  try {  // the type callers catch to report in their own terms, with the bounds it found
+    qrm::faster_amplitude_estimation(half, qrm::fae_options{0.01, 5, false, false}, g);
+    FAIL("FAE without rescale ran on a = 0.5");
+  } catch (const qrm::fae_above_quarter& e) {
+    CHECK(e.shots == 10299);
+    CHECK(e.low > 0.25);
+    CHECK(e.low <= 0.5);
+    CHECK(e.high >= 0.5);
+  }
   const qrm::estimation_problem e{qrm::program(2), {qrm::control{5, true}}};
   CHECK(error_of([&] { simulated s(e); }) == "simulated_oracle: good condition on qubit 5 but A has 2 qubits");
   CHECK(error_of([] { qrm::to_radiance(qrm::estimation_result{}, 0.0); }) ==

@@ -67,15 +67,18 @@ int cmd_estimate(args& a) {
   qrm::estimation_result r;
   try {
     r = qrm::estimate_amplitude(oracle, est.settings, g);
-  } catch (const std::domain_error& e) {  // FAE without rescale above a = 1/4: said in the flags' terms
-    if (est.settings.kind != qrm::estimator_kind::fae || est.settings.fae.rescale) throw;
-    std::string why = e.what();
-    const std::string internal = "faster_amplitude_estimation: ";
-    if (why.rfind(internal, 0) == 0) why.erase(0, internal.size());
-    const std::string advice = "; enable rescale";
-    if (why.size() >= advice.size() && why.compare(why.size() - advice.size(), advice.size(), advice) == 0)
-      why.replace(why.size() - advice.size(), advice.size(), "; drop --no-rescale");
-    throw std::runtime_error("--no-rescale: " + why);
+  } catch (const qrm::fae_above_quarter& e) {  // said in the flags' terms
+    const auto six_digits = [](double x) {
+      char b[32];
+      std::snprintf(b, sizeof b, "%.6g", x);
+      return std::string(b);
+    };
+    throw std::runtime_error(
+        "--no-rescale: without rescale the amplitude must be at most 1/4, but " +
+        (e.shots ? "a k = 0 check of " + std::to_string(e.shots) + " shots puts P(good) in [" + six_digits(e.low) + ", " +
+                       six_digits(e.high) + "]"
+                 : "P(good) = " + six_digits(e.low)) +
+        "; drop --no-rescale");
   }
   const json_object& options = est.options;
 

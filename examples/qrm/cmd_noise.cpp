@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -250,15 +249,14 @@ int cmd_noise(args& a) {
       double sum = 0, sq = 0, se = 0, damping = 0;
       std::size_t se_count = 0;
       std::uint64_t max_power = 0;
-      std::string cannot;  // why the estimator cannot run on this oracle (FAE without rescale above a = 1/4)
+      std::string cannot;  // why the estimator cannot run on this oracle
       for (std::size_t j = 0; j < seeds && cannot.empty(); ++j) {  // the same seeds for every estimator and rate
         qrm::rng g = qrm::rng::stream(seed, j);
         qrm::estimation_result r;
         try {
           r = qrm::estimate_amplitude(oracle, settings, g);
-        } catch (const std::domain_error& e) {
-          cannot = name == "fae" ? "the noise puts P(good) above 1/4, and FAE runs here without rescale, which needs at most 1/4"
-                                 : e.what();
+        } catch (const qrm::fae_above_quarter&) {
+          cannot = "the noise puts P(good) above 1/4, and FAE runs here without rescale, which needs at most 1/4";
           for (; j < seeds; ++j) bar.advance();
           break;
         }

@@ -43,6 +43,16 @@ namespace qrm {
 // Ry(2 asin(1/4)) (rescaled_problem).
 inline constexpr double fae_rescale_scale = 0.25;
 
+// fae_above_quarter: FAE without rescale met P(good) above 1/4 (a std::domain_error whose what()
+// says so); low and high bound P(good): its k = 0 check of `shots` shots, or low = high = P(good)
+// with exact probabilities (shots = 0). Callers that report in their own terms catch this type.
+struct fae_above_quarter : std::domain_error {
+  double low, high;
+  std::uint64_t shots;
+  fae_above_quarter(const std::string& what, double lo, double hi, std::uint64_t n)
+      : std::domain_error(what), low(lo), high(hi), shots(n) {}
+};
+
 struct fae_options {
   double delta = 0.01;   // failure probability of each Chernoff interval
   unsigned maxiter = 5;  // rounds l; the largest Grover power is 2^(l-1)
@@ -119,17 +129,19 @@ estimation_result faster_amplitude_estimation(O& oracle, const fae_options& opt,
     r.check_a_calls = n1;
     if (opt.exact_probabilities) {
       if (p0 > 0.25)
-        throw std::domain_error(
+        throw fae_above_quarter(
             "faster_amplitude_estimation: without rescale the amplitude must be at most 1/4, but P(good) = " +
-            std::to_string(p0) + "; enable rescale");
+                std::to_string(p0) + "; enable rescale",
+            p0, p0, 0);
     } else {
       const double h = s.hits(p0, n1);
       const auto [lo, hi] = detail::clopper_pearson(h, static_cast<double>(n1), opt.delta);
       if (lo > 0.25)
-        throw std::domain_error(
+        throw fae_above_quarter(
             "faster_amplitude_estimation: without rescale the amplitude must be at most 1/4, but a k = 0 check of " +
-            std::to_string(n1) + " shots puts P(good) in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-            "]; enable rescale");
+                std::to_string(n1) + " shots puts P(good) in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                "]; enable rescale",
+            lo, hi, n1);
       if (hi > 0.25)
         r.warning =
             "fae without rescale: the k = 0 check puts P(good) in [" + std::to_string(lo) + ", " + std::to_string(hi) +
