@@ -146,7 +146,9 @@ void BM_gate1_complex(benchmark::State& st) {
 // target n-1, so every touched amplitude sits in its own cache line 2^k amplitudes apart (the
 // worst case: bounded by memory latency, not bandwidth); placement 2: controls on qubits 1..k,
 // target k + 3 (the Toffolis of a random circuit: controls inside each cache line, so every line
-// is read; bound by bandwidth, a full pass).
+// is read; bound by bandwidth, a full pass); placement 3: controls on qubits 3, 7, 11, ...,
+// target n - 2, on a state that stays in cache (n = 16: a chunk of run_in_chunks), runs of
+// 128 bytes.
 template <class S>
 void BM_mcx(benchmark::State& st) {
   const int n = static_cast<int>(st.range(0));
@@ -156,8 +158,8 @@ void BM_mcx(benchmark::State& st) {
   std::vector<qrm::control> cs;
   const int placement = static_cast<int>(st.range(2));
   for (int i = 0; i < k; ++i)
-    cs.push_back({static_cast<qrm::qubit_index>(placement == 2 ? i + 1 : strided ? i : n - 1 - i), true});
-  const auto target = static_cast<qrm::qubit_index>(placement == 2 ? k + 3 : strided ? n - 1 : 0);
+    cs.push_back({static_cast<qrm::qubit_index>(placement == 3 ? 3 + 4 * i : placement == 2 ? i + 1 : strided ? i : n - 1 - i), true});
+  const auto target = static_cast<qrm::qubit_index>(placement == 3 ? n - 2 : placement == 2 ? k + 3 : strided ? n - 1 : 0);
   for (auto _ : st) s.apply_gate1(qrm::gate::x(), target, cs);
   report(st, 2.0 * std::ldexp(sizeof(S), n - k));
   touch_bytes_label<S>(st, n);
@@ -217,6 +219,8 @@ BENCHMARK(BM_mcx<double>)->ArgNames({"n", "k", "placement", "threads"})->ArgsPro
 BENCHMARK(BM_mcx<cd>)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{24}, {1, 2}, {2}, {1}})->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_mcx<std::complex<float>>)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{24}, {1, 2}, {2}, {1}})->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_mcx<double>)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{24}, {1, 2}, {2}, {1}})->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_mcx<cd>)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{16}, {0, 1, 2, 3}, {3}, {1}})->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_mcx<std::complex<float>>)->ArgNames({"n", "k", "placement", "threads"})->ArgsProduct({{16}, {0, 1, 2, 3}, {3}, {1}})->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_controlled_ry)->ArgNames({"n", "threads"})->Apply(sizes_and_threads)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_mux_ry)->ArgNames({"n", "threads"})->Apply(sizes_and_threads)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_increment)->ArgNames({"n", "threads"})->Apply(sizes_and_threads)->UseRealTime()->Unit(benchmark::kMillisecond);
