@@ -163,23 +163,25 @@ TEST_CASE("matrices and X on qubits 2^28 bytes apart match the reference") {
         CHECK(std::sqrt(worst) <= 1e-5);
       }
   }
-  // X on qubit 25 (runs 256 MiB apart: detail::swap_runs_masked's grouped form), without
-  // controls, with one above and two inside a cache line (a lane mask): the exact permutation.
+  // X on qubit 25 (runs 256 MiB apart: detail::swap_runs_masked's grouped form) and on qubit 13
+  // (a state streamed from memory: its prefetching loop), without controls, with one on qubit 12
+  // and two inside a cache line (a lane mask): the exact permutation.
   const std::vector<std::vector<control>> control_sets = {{}, {{12, true}}, {{1, true}, {2, false}}};
-  for (const std::vector<control>& cs : control_sets)
-    for (const unsigned threads : {1u, 2u}) {
-      qrm::state_vector<cf>& s = states[0];
-      s.set_threads(threads);
-      s.set_amplitudes(start);
-      s.apply_gate1(qrm::gate::x(), 25, cs);
-      std::size_t wrong = 0;
-      for (const std::uint64_t i : sample) {
-        const bool on = std::all_of(cs.begin(), cs.end(), [&](const control& k) { return ((i >> k.qubit) & 1u) == k.value; });
-        wrong += s.amplitudes()[i] != (on ? start[i ^ (std::uint64_t{1} << 25)] : start[i]);
+  for (const unsigned target : {25u, 13u})
+    for (const std::vector<control>& cs : control_sets)
+      for (const unsigned threads : {1u, 2u}) {
+        qrm::state_vector<cf>& s = states[0];
+        s.set_threads(threads);
+        s.set_amplitudes(start);
+        s.apply_gate1(qrm::gate::x(), target, cs);
+        std::size_t wrong = 0;
+        for (const std::uint64_t i : sample) {
+          const bool on = std::all_of(cs.begin(), cs.end(), [&](const control& k) { return ((i >> k.qubit) & 1u) == k.value; });
+          wrong += s.amplitudes()[i] != (on ? start[i ^ (std::uint64_t{1} << target)] : start[i]);
+        }
+        INFO("X on " << target << ", controls " << cs.size() << ", threads " << threads);
+        CHECK(wrong == 0);
       }
-      INFO("X on 25, controls " << cs.size() << ", threads " << threads);
-      CHECK(wrong == 0);
-    }
 }
 
 // X is a byte move (detail/dense_swap.hpp): blocks of 2^t amplitudes narrower than a vector are

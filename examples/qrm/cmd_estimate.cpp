@@ -11,6 +11,7 @@
 
 #include "commands.hpp"
 #include "estimator_args.hpp"
+#include "json.hpp"
 
 namespace qrm_cli {
 
@@ -68,11 +69,7 @@ int cmd_estimate(args& a) {
   try {
     r = qrm::estimate_amplitude(oracle, est.settings, g);
   } catch (const qrm::fae_above_quarter& e) {  // said in the flags' terms
-    const auto six_digits = [](double x) {
-      char b[32];
-      std::snprintf(b, sizeof b, "%.6g", x);
-      return std::string(b);
-    };
+    const auto six_digits = [](double x) { return short_number(x, 6); };
     throw std::runtime_error(
         "--no-rescale: without rescale the amplitude must be at most 1/4, but " +
         (e.shots ? "a k = 0 check of " + std::to_string(e.shots) + " shots puts P(good) in [" + six_digits(e.low) + ", " +

@@ -19,10 +19,10 @@ namespace qrm_cli {
 // not finite (JSON has no inf or nan).
 inline std::string json_number(double x) { return std::isfinite(x) ? qrm::io::csv_number(x) : "null"; }
 
-// short_number(x): three significant digits, for the Markdown reports people read.
-inline std::string short_number(double v) {
+// short_number(x, digits): that many significant digits (three by default), for the text people read.
+inline std::string short_number(double v, int digits = 3) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
   return buf;
 }
 

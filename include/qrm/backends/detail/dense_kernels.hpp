@@ -209,7 +209,7 @@ void kernel_gate1(S* a, unsigned n, const gate1& g, unsigned t, std::uint64_t cm
           pattern[e * sizeof(S) / 4 + w] = (e & low) == (cvalue & low) ? ~std::uint32_t{0} : 0;
       for_each_chunk(s, ex, 2, [&](std::uint64_t k0, std::uint64_t k1) {
         swap_runs_masked({reinterpret_cast<char*>(a), run_cursor(s, k0, k1), sizeof(S), st * sizeof(S), pattern.data(),
-                          pattern.size(), (sizeof(S) << n) > cached_state_bytes},
+                          pattern.size(), (sizeof(S) << n) > streaming_state_bytes},
                          level);
       });
       return;

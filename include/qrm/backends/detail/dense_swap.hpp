@@ -95,13 +95,11 @@ struct masked_swap_job {
   std::uint64_t element_bytes, dist;
   const std::uint32_t* pattern;
   std::uint64_t pattern_lanes;
-  bool prefetch;  // feed both streams from memory (see cached_state_bytes)
+  // The state exceeds streaming_state_bytes: both streams are prefetched. In cache a prefetch
+  // only takes load slots: a CX on a 2^16-amplitude complex<double> chunk with runs of 64 bytes
+  // took 10.7 us with it and 6.3 us without.
+  bool streams;
 };
-
-// A state of at most this many bytes is taken to be in cache (a chunk of run_in_chunks, a small
-// register), where a software prefetch only takes load slots: a CX on a 2^16-amplitude
-// complex<double> chunk with runs of 64 bytes took 10.7 us with it and 6.3 us without.
-inline constexpr std::uint64_t cached_state_bytes = std::uint64_t{4} << 20;
 
 // The loop of swap_runs_masked. Masked: blend under the pattern (else every lane moves);
 // OneVector: the pattern fits one vector and stays in a register. The job's fields are copied
@@ -113,9 +111,10 @@ inline constexpr std::uint64_t cached_state_bytes = std::uint64_t{4} << 20;
 // G > 1 (runs aliasing_stride_bytes apart or more): G vectors (512 bytes) of one run read and
 // written before the other's. X on target 25 of 26 complex<float> qubits took 107 ms against
 // 28-31 ms on targets 13 and 24; 128 bytes at a time 64 ms, 256 bytes 44 ms, 512 bytes 36 ms.
-template <class V, unsigned G, bool Masked, bool OneVector, bool Prefetch>
+template <class V, unsigned G, bool Masked, bool OneVector, bool Streams>
 [[gnu::always_inline]] inline void swap_runs_loop(const masked_swap_job& job) {
   constexpr unsigned per = sizeof(V) / 4;
+  static_assert(G == 1 || (Masked && Streams), "grouped runs are 256 MiB apart: a streamed state");
   char* const base = job.base;
   const std::uint64_t element_bytes = job.element_bytes;
   const std::uint64_t dist = job.dist / 4, wrap = job.pattern_lanes - 1;
@@ -132,19 +131,18 @@ template <class V, unsigned G, bool Masked, bool OneVector, bool Prefetch>
         V x[G], y[G];
         for (unsigned u = 0; u < G; ++u) std::memcpy(&x[u], p + j + u * per, sizeof(V));
         for (unsigned u = 0; u < G; ++u) std::memcpy(&y[u], p + j + dist + u * per, sizeof(V));
-        if constexpr (Masked)
-          for (unsigned u = 0; u < G; ++u) {
-            V m = held;
-            if constexpr (!OneVector) std::memcpy(&m, pattern + ((j + u * per) & wrap), sizeof(V));
-            const V d = (x[u] ^ y[u]) & m;
-            x[u] ^= d;
-            y[u] ^= d;
-          }
-        for (unsigned u = 0; u < G; ++u) std::memcpy(p + j + u * per, Masked ? &x[u] : &y[u], sizeof(V));
-        for (unsigned u = 0; u < G; ++u) std::memcpy(p + j + dist + u * per, Masked ? &y[u] : &x[u], sizeof(V));
+        for (unsigned u = 0; u < G; ++u) {
+          V m = held;
+          if constexpr (!OneVector) std::memcpy(&m, pattern + ((j + u * per) & wrap), sizeof(V));
+          const V d = (x[u] ^ y[u]) & m;
+          x[u] ^= d;
+          y[u] ^= d;
+        }
+        for (unsigned u = 0; u < G; ++u) std::memcpy(p + j + u * per, &x[u], sizeof(V));
+        for (unsigned u = 0; u < G; ++u) std::memcpy(p + j + dist + u * per, &y[u], sizeof(V));
       }
     for (; j < lanes; j += per) {
-      if constexpr (Prefetch)
+      if constexpr (Streams)
         if (j % 16 == 0) {  // both streams, one line at a time
           prefetch_for_write(p, j + ahead);
           prefetch_for_write(p, j + dist + ahead);
@@ -171,16 +169,17 @@ template <class V, unsigned G, bool Masked, bool OneVector, bool Prefetch>
 template <class V, unsigned G = 1>
 [[gnu::always_inline]] inline void swap_runs_masked(const masked_swap_job& job) {
   constexpr unsigned per = sizeof(V) / 4;
-  bool masked = false;
-  for (std::uint64_t l = 0; l < job.pattern_lanes; ++l) masked |= job.pattern[l] != ~std::uint32_t{0};
   const bool one_vector = job.pattern_lanes <= per;
-  if (job.prefetch) {
-    if (one_vector) return swap_runs_loop<V, G, true, true, true>(job);
-    return swap_runs_loop<V, G, true, false, true>(job);
-  }
-  if (!masked) return swap_runs_loop<V, G, false, false, false>(job);
-  if (one_vector) return swap_runs_loop<V, G, true, true, false>(job);
-  swap_runs_loop<V, G, true, false, false>(job);
+  if constexpr (G == 1)
+    if (!job.streams) {
+      bool masked = false;
+      for (std::uint64_t l = 0; l < job.pattern_lanes; ++l) masked |= job.pattern[l] != ~std::uint32_t{0};
+      if (!masked) return swap_runs_loop<V, 1, false, false, false>(job);
+      if (one_vector) return swap_runs_loop<V, 1, true, true, false>(job);
+      return swap_runs_loop<V, 1, true, false, false>(job);
+    }
+  if (one_vector) return swap_runs_loop<V, G, true, true, true>(job);
+  swap_runs_loop<V, G, true, false, true>(job);
 }
 
 template <int = 0>
