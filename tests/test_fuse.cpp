@@ -803,6 +803,33 @@ TEST_CASE("a block that never flips a qubit above 2 is written under it as a con
   }
 }
 
+TEST_CASE("values of the never-flipped qubits whose products are equal share one piece under fewer controls") {
+  // phase(0.4) on 5, Ry(0.7) on 3 under q4 = 1, phase(-0.4) on 5: one block on {3, 4, 5} at width
+  // 3 that flips only qubit 3. By hand, under q4 = 0 it is the identity, under q4 = 1 it is Ry(0.7)
+  // whatever q5 (the phases cancel, to rounding): one op, Ry(0.7) on 3 under q4 = 1, where a piece
+  // per value of (q4, q5) wrote two.
+  qrm::program p(6);
+  p.apply_gate1(qrm::gate::phase(0.4), 5, {});
+  const control c4[] = {{4, true}};
+  p.apply_gate1(qrm::gate::ry(0.7), 3, c4);
+  p.apply_gate1(qrm::gate::phase(-0.4), 5, {});
+  qrm::fusion_report rep;
+  const qrm::program f = qrm::fuse(p, {3}, &rep);
+  CHECK(rep.fused_blocks == 1);
+  CHECK(rep.block_ops == 1);
+  REQUIRE(f.size() == 1);
+  REQUIRE(f.ops()[0].index() == 0);
+  const auto& g = *std::get_if<qrm::op::gate1_op>(&f.ops()[0]);
+  CHECK(g.target == 3);
+  REQUIRE(g.controls.size() == 1);
+  CHECK(g.controls[0].qubit == 4);
+  CHECK(g.controls[0].value);
+  const double c = std::cos(0.35), s = std::sin(0.35);
+  const double ry[2][2] = {{c, -s}, {s, c}};
+  for (std::size_t i = 0; i < 2; ++i)
+    for (std::size_t j = 0; j < 2; ++j) CHECK(std::abs(g.gate.m[i][j] - ry[i][j]) < 1e-15);
+}
+
 TEST_CASE("a gate that would widen its blocks past the limit closes the smaller ones and joins the rest") {
   // H0, H1, CX(0 -> 1), H2, CX(1 -> 2) at width 2: the first three fuse into one block on {0, 1};
   // H2 finds no block with room and opens {2}; CX(1 -> 2) cannot have both blocks ({0, 1, 2}),

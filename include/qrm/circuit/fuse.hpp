@@ -241,8 +241,9 @@ namespace detail {
 // The ops a fused block m on `qubits` (sorted) is written as. Qubits the product never flips (no
 // non-zero between a row and a column that differ there: a CX's control, a qubit that only
 // diagonal gates touched) may become controls instead: each of their values gets its own smaller
-// matrix on the other qubits, applied under that value, identities (to the rounding of the
-// `folded` products, as in drop_rounding_residue: H H) dropped. That halves the
+// matrix on the other qubits, applied under that value (values with equal matrices share one
+// piece under fewer controls), identities (to the rounding of the `folded` products, as in
+// drop_rounding_residue: H H) dropped. That halves the
 // arithmetic per such qubit, and a control need not lie in the dense backend's chunk where a
 // target must (backends/detail/dense_blocked.hpp): the random suite fused at width 3 has 42 such
 // qubits in its 73 blocks; written whole, its fused program made 15 chunked runs at 17 qubits a
@@ -267,15 +268,29 @@ inline std::vector<op::any> block_ops(dense_matrix m, const std::vector<qubit_in
   std::vector<qubit_index> targets;
   for (std::size_t j : moved) targets.push_back(qubits[j]);
   const std::size_t sub_dim = std::size_t{1} << moved.size();
-  std::vector<op::any> pieces;
-  for (std::size_t v = 0; v < (std::size_t{1} << fixed.size()); ++v) {
-    std::size_t base = 0;
-    std::vector<control> cs;
-    for (std::size_t i = 0; i < fixed.size(); ++i) {
-      const bool one = ((v >> i) & 1u) != 0;
-      if (one) base |= std::size_t{1} << fixed[i];
-      cs.push_back({qubits[fixed[i]], one});
+  // Each value of the fixed qubits gets its matrix. Two values that differ in one fixed qubit
+  // and have equal matrices (to the rounding tolerance) merge into one piece that drops that
+  // control, bit by bit: a fixed qubit whose gates cancel (S, then S-dagger) no longer doubles
+  // the pieces. The decomposed 8x8 walk (22 qubits, 10,725 gates, width 6) fused to 511 ops
+  // where one piece per value made 771 (bench/RESULTS.md).
+  struct cube {
+    std::size_t value, care;  // over the fixed qubits' bits
+    dense_matrix sub;
+    bool identity;
+  };
+  const auto same = [&](const dense_matrix& x, const dense_matrix& y) {
+    for (std::size_t e = 0; e < x.data.size(); ++e) {
+      const complex d = x.data[e] - y.data[e];
+      if (std::abs(d.real()) > tolerance || std::abs(d.imag()) > tolerance) return false;
     }
+    return true;
+  };
+  const std::size_t values = std::size_t{1} << fixed.size();
+  std::vector<cube> cubes;
+  for (std::size_t v = 0; v < values; ++v) {
+    std::size_t base = 0;
+    for (std::size_t i = 0; i < fixed.size(); ++i)
+      if ((v >> i) & 1u) base |= std::size_t{1} << fixed[i];
     const auto index = [&](std::size_t local) {
       std::size_t at = base;
       for (std::size_t i = 0; i < moved.size(); ++i)
@@ -290,11 +305,39 @@ inline std::vector<op::any> block_ops(dense_matrix m, const std::vector<qubit_in
         const complex off = sub(r, c) - complex(r == c ? 1.0 : 0.0);
         identity = identity && std::abs(off.real()) <= tolerance && std::abs(off.imag()) <= tolerance;
       }
-    if (identity) continue;
+    cubes.push_back({v, values - 1, std::move(sub), identity});
+  }
+  for (std::size_t i = 0; i < fixed.size(); ++i) {
+    const std::size_t bit = std::size_t{1} << i;
+    std::vector<cube> merged;
+    std::vector<bool> taken(cubes.size(), false);
+    for (std::size_t x = 0; x < cubes.size(); ++x) {
+      if (taken[x]) continue;
+      cube& a = cubes[x];
+      if ((a.care & bit) && !(a.value & bit))
+        for (std::size_t y = x + 1; y < cubes.size(); ++y) {
+          const cube& b = cubes[y];
+          if (taken[y] || b.care != a.care || b.value != (a.value | bit) || b.identity != a.identity ||
+              !(a.identity || same(a.sub, b.sub)))
+            continue;
+          taken[y] = true;
+          a.care &= ~bit;
+          break;
+        }
+      merged.push_back(std::move(a));
+    }
+    cubes = std::move(merged);
+  }
+  std::vector<op::any> pieces;
+  for (cube& c : cubes) {
+    if (c.identity) continue;
+    std::vector<control> cs;
+    for (std::size_t i = 0; i < fixed.size(); ++i)
+      if ((c.care >> i) & 1u) cs.push_back({qubits[fixed[i]], ((c.value >> i) & 1u) != 0});
     if (sub_dim == 2)
-      pieces.emplace_back(op::gate1_op{gate::u(sub(0, 0), sub(0, 1), sub(1, 0), sub(1, 1)), targets[0], cs});
+      pieces.emplace_back(op::gate1_op{gate::u(c.sub(0, 0), c.sub(0, 1), c.sub(1, 0), c.sub(1, 1)), targets[0], cs});
     else
-      pieces.emplace_back(op::unitary_op{std::move(sub), targets, cs});
+      pieces.emplace_back(op::unitary_op{std::move(c.sub), targets, cs});
   }
   double split = 0;
   for (const op::any& o : pieces) split += estimated_passes(o);
