@@ -116,13 +116,31 @@ inline void fold_gate1(dense_matrix& m, const op::gate1_op& o, const std::vector
     if (c.value) cvalue |= b;
   }
   const gate1& g = o.gate;
+  // Most gates of a decomposed circuit are CNOTs and phases (the 8x8 walk: 7955 and 7593 of
+  // 18,470): an X swaps two rows and a diagonal gate scales them, the same numbers the general
+  // update below gives (its other terms are exact zeros) at a fraction of the work.
+  const bool flip = g.m[0][0] == complex{} && g.m[1][1] == complex{} && g.m[0][1] == complex(1) && g.m[1][0] == complex(1);
+  const bool diagonal = g.m[0][1] == complex{} && g.m[1][0] == complex{};
   for (std::size_t i = 0; i < dim; ++i) {
     if ((i & t) || (i & cmask) != cvalue) continue;
+    complex* const x_row = &m(i, 0);
+    complex* const y_row = &m(i | t, 0);
+    if (flip) {
+      std::swap_ranges(x_row, x_row + dim, y_row);
+      continue;
+    }
+    if (diagonal) {
+      if (g.m[0][0] != complex(1))
+        for (std::size_t col = 0; col < dim; ++col) x_row[col] *= g.m[0][0];
+      if (g.m[1][1] != complex(1))
+        for (std::size_t col = 0; col < dim; ++col) y_row[col] *= g.m[1][1];
+      continue;
+    }
     for (std::size_t col = 0; col < dim; ++col) {
-      const complex x = m(i, col), y = m(i | t, col);
+      const complex x = x_row[col], y = y_row[col];
       if (x == complex{} && y == complex{}) continue;  // blocks stay sparse: most columns are zero here
-      m(i, col) = g.m[0][0] * x + g.m[0][1] * y;
-      m(i | t, col) = g.m[1][0] * x + g.m[1][1] * y;
+      x_row[col] = g.m[0][0] * x + g.m[0][1] * y;
+      y_row[col] = g.m[1][0] * x + g.m[1][1] * y;
     }
   }
 }
@@ -479,8 +497,13 @@ program fuse(const program& p, fusion_options options = {}, fusion_report* repor
           other = {};
         }
         // Ops of merged blocks act on disjoint qubits, so any interleaving of them is the same
-        // product; program order keeps the output readable.
-        std::sort(blocks[into].ops.begin(), blocks[into].ops.end());
+        // product; program order keeps the output readable. The list is sorted but for the ops
+        // appended since the last merge: sorting only those and merging keeps this linear (a
+        // full sort per op was 18% of fusing the decomposed walk at width 6).
+        std::vector<std::size_t>& ops = blocks[into].ops;
+        const auto unsorted = std::is_sorted_until(ops.begin(), ops.end());
+        std::sort(unsorted, ops.end());
+        std::inplace_merge(ops.begin(), unsorted, ops.end());
       } else if (const std::size_t host = options.merge_disjoint ? roomiest_fit(q.size()) : blocks.size();
                  host < blocks.size()) {
         into = host;  // a tensor product: one pass where the op alone would make its own
