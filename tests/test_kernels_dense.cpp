@@ -366,3 +366,25 @@ TEST_CASE_TEMPLATE("programs run chunk by chunk match the reference at every chu
     }
   }
 }
+
+TEST_CASE("probability sums runs of every length, the eight-wide loop and its tail alike") {
+  // Runs of 1 to 2^5 amplitudes (a condition on qubit k cuts the state into runs of 2^k), each
+  // checked against a plain sum of |a_i|^2 over the indices the condition selects.
+  using S = std::complex<double>;
+  const unsigned n = 6;
+  qrm::state_vector<S> s(n);
+  for (unsigned q = 0; q < n; ++q) s.apply_gate1(qrm::gate::ry(0.3 + 0.4 * q), q, {});
+  s.apply_gate1(qrm::gate::rz(0.9), 2, {});
+  const auto amps = s.amplitudes();
+  for (unsigned k = 0; k < n; ++k)
+    for (const bool value : {false, true}) {
+      const qrm::control c{k, value};
+      double expected = 0;
+      for (std::size_t i = 0; i < amps.size(); ++i)
+        if (((i >> k) & 1u) == static_cast<std::size_t>(value)) expected += std::norm(amps[i]);
+      CAPTURE(k);
+      CAPTURE(value);
+      CHECK(std::abs(s.probability(std::span<const qrm::control>(&c, 1)) - expected) < 1e-15);
+    }
+  CHECK(std::abs(s.norm_squared() - 1.0) < 1e-14);
+}
